@@ -1,0 +1,226 @@
+/* gigatet.h -- the one public header of gigatet, a robust 3D Delaunay kernel.
+ *
+ * gigatet builds the Delaunay tetrahedrization of n points in R^3 by incremental
+ * (Bowyer-Watson) insertion along a Moore curve with BRIO rounds.  Every sign it uses comes
+ * from two predicates, orient3d and insphere, evaluated exactly for all finite doubles
+ * (semi-static filter -> exact expansion / integer stage -> GMP), and exact zeros are broken
+ * by a symbolic perturbation that depends only on the points (lexicographic rank, the rule
+ * CGAL's Delaunay_triangulation_3 uses).  Hence the output is THE perturbed Delaunay
+ * tetrahedrization of the set of distinct input points: independent of input order,
+ * insertion order and thread count, and equal to CGAL's tet for tet.
+ *
+ * Conventions
+ *   - Points are given as xyz[3*i+0..2], i < n, finite doubles (NaN/Inf are rejected).
+ *   - Exact duplicates (with -0.0 == +0.0) are not vertices: each input point maps to the
+ *     vertex of its first occurrence (gtet_mesh_input_map), and the count is reported.
+ *   - Mesh vertices are the distinct input points numbered 0..nv-1 in order of first
+ *     occurrence.  Tets are 4 vertex ids, positively oriented (orient3d > 0).
+ *   - Facet f of a tet is the facet opposite its vertex f; neighbor[4*t+f] is the tet across
+ *     it, or GTET_NO_TET on the convex hull.
+ *   - The library never prints and never exits; it reports through return codes and the
+ *     optional callbacks in gtet_options.
+ *
+ * Thread safety: every function is reentrant; a gtet_mesh may be read from many threads.
+ */
+#ifndef GIGATET_H
+#define GIGATET_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define GTET_VERSION_MAJOR 0
+#define GTET_VERSION_MINOR 1
+#define GTET_VERSION_PATCH 0
+
+/* ------------------------------------------------------------------------------------------ */
+/* Status                                                                                     */
+/* ------------------------------------------------------------------------------------------ */
+
+typedef enum gtet_status {
+    GTET_OK = 0,
+    GTET_ERR_ARGUMENT = 1,          /* a NULL pointer, an invalid option value */
+    GTET_ERR_NONFINITE = 2,         /* a NaN or infinite coordinate (gtet_error.index says where) */
+    GTET_ERR_DEGENERATE_INPUT = 3,  /* < 4 distinct points, or all collinear / coplanar */
+    GTET_ERR_OUT_OF_MEMORY = 4,     /* an allocation failed; nothing leaked */
+    GTET_ERR_TOO_LARGE = 5,         /* more points or tets than the index types hold */
+    GTET_ERR_CHECK_FAILED = 6,      /* the exact checker found a violated invariant */
+    GTET_ERR_INTERNAL = 7           /* a broken internal invariant: please report it */
+} gtet_status;
+
+/* A static, never-NULL English description of a status. */
+const char *gtet_status_str(gtet_status status);
+
+/* Details of a failure, filled when the caller passes one (see gtet_options.error). */
+typedef struct gtet_error {
+    gtet_status status;
+    size_t index;       /* input index the error is about, or SIZE_MAX */
+    int dimension;      /* for GTET_ERR_DEGENERATE_INPUT: affine dimension 0, 1 or 2; else -1 */
+    char message[256];  /* one English sentence, NUL-terminated */
+} gtet_error;
+
+/* ------------------------------------------------------------------------------------------ */
+/* Predicates (exact for all finite doubles, denormals and 2^1000 included)                  */
+/* ------------------------------------------------------------------------------------------ */
+
+/* Sign of det[b-a; c-a; d-a]: +1 when (a,b,c,d) is positively oriented, as (0, e_x, e_y, e_z)
+ * is; -1 for the mirror image; 0 when the four points are coplanar. */
+int gtet_orient3d(const double a[3], const double b[3], const double c[3], const double d[3]);
+
+/* +1 when e is strictly inside the sphere through a,b,c,d and orient3d(a,b,c,d) > 0; the sign
+ * flips with the orientation of (a,b,c,d); 0 when the five points are co-spherical (or
+ * a,b,c,d coplanar and e on their circle / plane in the degenerate sense of the determinant). */
+int gtet_insphere(const double a[3], const double b[3], const double c[3], const double d[3],
+                  const double e[3]);
+
+/* As gtet_insphere, with exact zeros broken by the lexicographic symbolic perturbation of
+ * Devillers & Teillaud (CGAL's rule): never 0 for five distinct points with
+ * orient3d(a,b,c,d) != 0. */
+int gtet_insphere_sos(const double a[3], const double b[3], const double c[3], const double d[3],
+                      const double e[3]);
+
+/* The hull rule.  A ghost (infinite) tet is (a,b,c,infinity), with its finite facet (a,b,c)
+ * ordered so that orient3d(a,b,c,p) < 0 for the points p of the hull.  e conflicts with it
+ * (+1) when orient3d(a,b,c,e) > 0, i.e. e is strictly beyond the hull facet; when e is
+ * coplanar with (a,b,c), +1 when e is inside the perturbed circle through a,b,c (CGAL's
+ * coplanar_side_of_bounded_circle with perturbation), else -1.  Never 0 for four distinct
+ * points with a,b,c not collinear. */
+int gtet_ghost_conflict(const double a[3], const double b[3], const double c[3],
+                        const double e[3]);
+
+/* Counters of how each predicate call on this thread was decided.  The public predicates
+ * above count into a thread-local record; the kernel counts per worker thread and reports the
+ * sum in gtet_stats. */
+typedef struct gtet_pred_counters {
+    uint64_t orient_calls;      /* orient3d evaluations */
+    uint64_t orient_exact;      /* ... that the filter could not decide */
+    uint64_t orient_gmp;        /* ... that needed the GMP (out-of-range) exact stage */
+    uint64_t orient_zero;       /* ... that were exactly zero */
+    uint64_t insphere_calls;    /* insphere evaluations */
+    uint64_t insphere_exact;    /* ... that the filter could not decide */
+    uint64_t insphere_gmp;      /* ... that needed the GMP exact stage */
+    uint64_t insphere_zero;     /* ... that were exactly zero */
+    uint64_t sos_calls;         /* symbolic perturbation decisions (insphere and hull rule) */
+    uint64_t sos_depth[4];      /* ... decided at perturbation term 1, 2, 3, 4 */
+} gtet_pred_counters;
+
+/* Copy the calling thread's counters; reset them. */
+void gtet_pred_counters_get(gtet_pred_counters *out);
+void gtet_pred_counters_reset(void);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Triangulation                                                                              */
+/* ------------------------------------------------------------------------------------------ */
+
+typedef struct gtet_mesh gtet_mesh;
+
+#define GTET_NO_TET UINT32_MAX
+
+typedef struct gtet_options {
+    int threads;        /* worker threads; 0 = all cores (default 0) */
+    int verbosity;      /* 0 silent, 1 phases, 2 rounds; messages go to message() */
+    int check;          /* nonzero: run the exact checker on the result; a failure returns
+                           GTET_ERR_CHECK_FAILED and no mesh */
+    /* Called now and then with the fraction of points inserted, from the calling thread. */
+    void (*progress)(void *user, double fraction);
+    void *progress_user;
+    /* Called with one NUL-terminated line per message (verbosity > 0). */
+    void (*message)(void *user, const char *line);
+    void *message_user;
+    /* When not NULL, filled with the details of any failure. */
+    gtet_error *error;
+} gtet_options;
+
+/* Fill *opts with the defaults above. */
+void gtet_options_init(gtet_options *opts);
+
+/* Build the Delaunay tetrahedrization of the n points xyz[3*i..3*i+2].  On success *mesh
+ * holds the result (free it with gtet_mesh_free); on failure *mesh is NULL, the status says
+ * why and opts->error (if given) the details.  opts may be NULL for the defaults. */
+gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *opts,
+                             gtet_mesh **mesh);
+
+void gtet_mesh_free(gtet_mesh **mesh);  /* sets *mesh to NULL; NULL-safe */
+
+size_t gtet_mesh_num_points(const gtet_mesh *mesh);      /* n as given */
+size_t gtet_mesh_num_vertices(const gtet_mesh *mesh);    /* distinct points */
+size_t gtet_mesh_num_duplicates(const gtet_mesh *mesh);  /* n - vertices */
+size_t gtet_mesh_num_tets(const gtet_mesh *mesh);        /* finite tets */
+size_t gtet_mesh_num_hull_facets(const gtet_mesh *mesh);
+
+/* 3*nv coordinates of the vertices. */
+const double *gtet_mesh_vertices(const gtet_mesh *mesh);
+/* n entries: the vertex id of input point i (the first occurrence for a duplicate). */
+const uint32_t *gtet_mesh_input_map(const gtet_mesh *mesh);
+/* 4*nt vertex ids, each tet positively oriented. */
+const uint32_t *gtet_mesh_tets(const gtet_mesh *mesh);
+/* 4*nt tet ids: neighbor[4*t+f] is across the facet opposite tets[4*t+f], or GTET_NO_TET. */
+const uint32_t *gtet_mesh_neighbors(const gtet_mesh *mesh);
+
+/* Per-round record of the parallel insertion. */
+typedef struct gtet_round_stats {
+    uint64_t points;      /* points of this round */
+    uint64_t tried;       /* insertion attempts (retries included) */
+    uint64_t inserted;    /* points inserted */
+    uint64_t deferred;    /* attempts rolled back on a colour conflict */
+    int threads;          /* threads used in the round's last pass */
+    int passes;           /* partition passes the round needed */
+} gtet_round_stats;
+
+typedef struct gtet_stats {
+    gtet_pred_counters pred;    /* summed over the worker threads */
+    double seconds_validate;    /* duplicate detection and dimension check */
+    double seconds_sort;        /* Moore keys, radix sort, BRIO */
+    double seconds_insert;      /* incremental insertion */
+    double seconds_finalize;    /* compaction, orientation of the output */
+    double seconds_total;
+    uint64_t tets_created;      /* tets written by cavities, ghosts included */
+    uint64_t walk_steps;        /* visibility-walk steps */
+    size_t bytes_per_tet;       /* the mesh arrays' bytes per tet (struct of arrays) */
+    size_t peak_bytes;          /* the kernel's own peak allocation */
+    int threads;                /* threads used */
+    int num_rounds;             /* BRIO rounds */
+    const gtet_round_stats *rounds;  /* num_rounds records, owned by the mesh */
+} gtet_stats;
+
+/* Statistics of the run that built the mesh. */
+void gtet_mesh_stats(const gtet_mesh *mesh, gtet_stats *stats);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Exact invariant checker                                                                    */
+/* ------------------------------------------------------------------------------------------ */
+
+enum {
+    GTET_CHECK_FULL = 1u << 0   /* add the O(n*m) empty-sphere test (small meshes only) */
+};
+
+typedef struct gtet_check_report {
+    int ok;                     /* 1 when every invariant holds */
+    uint64_t tets;              /* finite tets checked */
+    uint64_t facets_checked;    /* facets whose local Delaunay property was tested */
+    uint64_t hull_facets;
+    uint64_t duplicates;        /* input points that matched an earlier point */
+    int euler;                  /* V - E + F - T of the finite complex (1 for a ball) */
+    char message[512];          /* first violation found, or a summary */
+} gtet_check_report;
+
+/* Check a mesh against the points it was built from (xyz may be NULL: then the vertex set is
+ * not compared with the input).  Uses an independent exact GMP implementation of every
+ * predicate.  Returns GTET_OK or GTET_ERR_CHECK_FAILED (or an allocation / argument error);
+ * report may be NULL. */
+gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsigned flags,
+                       gtet_check_report *report);
+
+/* The same checker on plain arrays, e.g. a mesh read from a file or built by another tool.
+ * neighbors may be NULL (then adjacency is rebuilt and only its consistency is checked). */
+gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t *tets,
+                              size_t nt, const uint32_t *neighbors, const double *xyz,
+                              size_t n, unsigned flags, gtet_check_report *report);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* GIGATET_H */

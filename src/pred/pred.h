@@ -1,0 +1,60 @@
+/* pred.h -- internal interface of the geometric predicates (prefix pred_).
+ *
+ * Every sign the kernel uses comes from here.  Each predicate is one readable chain:
+ *   1. semi-static filter in double on translated coordinates (constants certified in proofs/),
+ *   2. exact stage: small-integer path, expansion arithmetic (Shewchuk 1997, our own code),
+ *      and GMP mpz on the exact integer form of the doubles when magnitudes leave the range
+ *      where expansions are exact,
+ *   3. symbolic perturbation of exact zeros (lexicographic rank, CGAL's rule; see
+ *      proofs/perturbation.md).
+ * Counters are passed explicitly (one record per worker thread): no global mutable state.
+ * Conventions are those of gigatet.h: orient3d = sign det[b-a; c-a; d-a], insphere > 0 when e
+ * is inside the sphere of a positively oriented (a,b,c,d).
+ * Points are `const double *` to three consecutive coordinates (the kernel stores 4 doubles
+ * per vertex; only the first three are read).
+ */
+#ifndef GTET_PRED_H
+#define GTET_PRED_H
+
+#include "../gigatet.h"
+#include "fpenv.h"
+
+typedef gtet_pred_counters pred_counters;
+
+/* Exact sign of orient3d (0 possible). */
+int pred_orient3d(const double *a, const double *b, const double *c, const double *d,
+                  pred_counters *cnt);
+
+/* Exact sign of insphere (0 possible). */
+int pred_insphere(const double *a, const double *b, const double *c, const double *d,
+                  const double *e, pred_counters *cnt);
+
+/* Perturbed insphere: equals pred_insphere when that is non-zero; never 0 for five distinct
+ * points with orient3d(a,b,c,d) != 0. */
+int pred_insphere_sos(const double *a, const double *b, const double *c, const double *d,
+                      const double *e, pred_counters *cnt);
+
+/* Hull rule (see gtet_ghost_conflict): +1 if e conflicts with ghost tet (a,b,c,inf). */
+int pred_ghost_conflict(const double *a, const double *b, const double *c, const double *e,
+                        pred_counters *cnt);
+
+/* Perturbed in-circle of e against the circle through a,b,c in their common plane (all four
+ * coplanar): +1 inside, -1 outside, never 0 for distinct points with a,b,c not collinear. */
+int pred_incircle_coplanar_sos(const double *a, const double *b, const double *c,
+                               const double *e, pred_counters *cnt);
+
+/* Lexicographic (x, then y, then z) comparison: -1, 0, +1.  -0.0 == +0.0. */
+static inline int pred_lex_cmp(const double *p, const double *q)
+{
+    if (p[0] != q[0]) return p[0] < q[0] ? -1 : 1;
+    if (p[1] != q[1]) return p[1] < q[1] ? -1 : 1;
+    if (p[2] != q[2]) return p[2] < q[2] ? -1 : 1;
+    return 0;
+}
+
+/* Run-time check of the floating-point assumptions the filters' proofs rely on (binary64,
+ * round-to-nearest, no contraction of a*b+c, no extended precision).  0 when they hold; else a
+ * bit mask of what failed (see fpenv.h). */
+int pred_fp_selftest(void);
+
+#endif
