@@ -1,0 +1,39 @@
+/* output.c -- accessors and destructor of the result object (see output.h). */
+#include "output.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void gtet_mesh_free(gtet_mesh **mesh)
+{
+    if (!mesh || !*mesh) return;
+    gtet_mesh *m = *mesh;
+    free(m->vertices);
+    free(m->input_map);
+    free(m->tets);
+    free(m->neighbors);
+    free(m->rounds);
+    free(m);
+    *mesh = NULL;
+}
+
+size_t gtet_mesh_num_points(const gtet_mesh *m) { return m ? m->n_points : 0; }
+size_t gtet_mesh_num_vertices(const gtet_mesh *m) { return m ? m->n_vertices : 0; }
+size_t gtet_mesh_num_duplicates(const gtet_mesh *m) { return m ? m->n_points - m->n_vertices : 0; }
+size_t gtet_mesh_num_tets(const gtet_mesh *m) { return m ? m->n_tets : 0; }
+size_t gtet_mesh_num_hull_facets(const gtet_mesh *m) { return m ? m->n_hull_facets : 0; }
+const double *gtet_mesh_vertices(const gtet_mesh *m) { return m ? m->vertices : NULL; }
+const uint32_t *gtet_mesh_input_map(const gtet_mesh *m) { return m ? m->input_map : NULL; }
+const uint32_t *gtet_mesh_tets(const gtet_mesh *m) { return m ? m->tets : NULL; }
+const uint32_t *gtet_mesh_neighbors(const gtet_mesh *m) { return m ? m->neighbors : NULL; }
+
+void gtet_mesh_stats(const gtet_mesh *m, gtet_stats *stats)
+{
+    if (!stats) return;
+    if (!m) {
+        memset(stats, 0, sizeof *stats);
+        return;
+    }
+    *stats = m->stats;
+    stats->rounds = m->rounds;
+}

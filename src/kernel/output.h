@@ -1,0 +1,26 @@
+/* output.h -- the result object behind the opaque gtet_mesh of gigatet.h.
+ *
+ * The kernel builds its working mesh (ghost tets, 4*t+f neighbour links, recycled slots) and,
+ * at the end, compacts it in place into these plain arrays: finite tets only, positively
+ * oriented, neighbours as tet ids with GTET_NO_TET on the hull.  Everything a user or the
+ * checker reads goes through the accessors of output.c.
+ */
+#ifndef GTET_OUTPUT_H
+#define GTET_OUTPUT_H
+
+#include "../gigatet.h"
+
+struct gtet_mesh {
+    size_t n_points;          /* input points as given */
+    size_t n_vertices;        /* distinct points */
+    size_t n_tets;            /* finite tets */
+    size_t n_hull_facets;
+    double *vertices;         /* 3 * n_vertices */
+    uint32_t *input_map;      /* n_points: vertex id of each input point */
+    uint32_t *tets;           /* 4 * n_tets, positively oriented */
+    uint32_t *neighbors;      /* 4 * n_tets, GTET_NO_TET on the hull */
+    gtet_stats stats;
+    gtet_round_stats *rounds; /* stats.num_rounds records */
+};
+
+#endif
