@@ -9,7 +9,8 @@
  * of the highest-ranked point's term is the orientation of the other four (with the query in
  * its place), so:
  *   insphere_sos: exact sign if non-zero; else for the largest, then the second largest of the
- *     5 points: if it is e -> -1; otherwise orient3d of (a,b,c,d) with that point replaced by e,
+ *     5 points: if it is e -> -orient3d(a,b,c,d) (= -1 for CGAL's positively oriented cells,
+ *     the sign flips with the orientation as for the unperturbed predicate); otherwise orient3d of (a,b,c,d) with that point replaced by e,
  *     if non-zero.  (Two steps suffice when orient3d(a,b,c,d) != 0, D&T Lemma; if they do not,
  *     the precondition was violated and we return -1, CGAL's fallback.)
  *   coplanar circle: the same in the plane with CGAL's coplanar_orientation (first non-zero of
@@ -118,9 +119,13 @@ int pred_insphere_sos(const double *a, const double *b, const double *c, const d
     lex_sort(p, 5, idx);
     for (int i = 4; i > 2; i--) {
         const int k = idx[i];
-        if (k == 4) { /* e is the highest of the rest: outside */
+        if (k == 4) {
+            /* e's own term: its coefficient is -orient3d(a,b,c,d), i.e. -1 (outside) under
+             * CGAL's precondition orient3d > 0; the general form keeps the result
+             * antisymmetric in (a,b,c,d) when the tet is negatively oriented. */
             cnt->sos_depth[4 - i]++;
-            return -1;
+            const int o = pred_orient3d(a, b, c, d, cnt);
+            return o != 0 ? -o : -1;
         }
         const double *q[4] = {a, b, c, d};
         q[k] = e;
