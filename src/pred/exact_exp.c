@@ -15,6 +15,8 @@
  *         w -= 2 x.e - |e|^2 turn det5 into det4 of the translated rows; expanding det5 along
  *         the w column gives the sum, with det4[(p,1),...] = -orient3d).
  *     Lengths: T <= 24, O <= 96, |P|^2 * O <= 1152, insphere <= 5760.
+ * Each 3x3 minor, lift and orientation is compressed (exp_compress) before it is multiplied:
+ * the value is unchanged and the products stay short (the bounds above are worst cases).
  * The band guarantees that every Two-Product is exact (expansion.h), so the result is exact.
  */
 #include "expansion.h"
@@ -62,7 +64,8 @@ static int det3(const double *p, const double *q, const double *r, int lqr, cons
     int n2 = exp_scale(lpr, mpr, -q[2], t2);
     int n3 = exp_scale(lpq, mpq, r[2], t3);
     int ns = exp_sum(n1, t1, n2, t2, s);
-    return exp_sum(ns, s, n3, t3, h);
+    int n = exp_sum(ns, s, n3, t3, h);
+    return exp_compress(n, h, h); /* keeps the products below short */
 }
 
 /* Translated coordinates v[k] = pts[k] - pts[base] (k != base, in order) when all exact. */
@@ -143,7 +146,8 @@ static int lift(const double *p, double *h)
         if (hi != 0) sq[j][l[j]++] = hi;
     }
     int ns = exp_sum(l[0], sq[0], l[1], sq[1], s);
-    return exp_sum(ns, s, l[2], sq[2], h);
+    int n = exp_sum(ns, s, l[2], sq[2], h);
+    return exp_compress(n, h, h);
 }
 
 static int insphere_translated(double (*v)[3])
@@ -219,6 +223,7 @@ static int insphere_raw(const double *x)
         int k1 = exp_sum(l0, T[o[1]][o[2]][o[3]], l1, n1, s1);
         int k2 = exp_sum(l2, T[o[0]][o[1]][o[3]], l3, n3, s2);
         int lo = exp_sum(k1, s1, k2, s2, O);
+        lo = exp_compress(lo, O, O);
         double w[6], term[1152], tmp[1152], tmp2[192];
         int lw = lift(pt[l], w);
         int lterm = exp_mul(lo, O, lw, w, term, tmp, tmp2);

@@ -101,3 +101,33 @@ int exp_mul(int elen, const double *e, int flen, const double *f, double *h, dou
         for (int k = 0; k < n; k++) h[k] = acc[k];
     return n;
 }
+
+/* Compress (Shewchuk 1997, section 2.8): a top-down sweep of Fast-Two-Sums accumulates the
+ * components into as few as possible, keeping every non-zero error term (so the sum is
+ * unchanged: each step is exact), then a bottom-up sweep does the same from the other end;
+ * Fast-Two-Sum's precondition holds because the running sum Q dominates the component added
+ * (nonoverlapping input in increasing magnitude).  The result is nonadjacent, in increasing
+ * magnitude, without zeros (except a single 0 for a zero input, which we drop). */
+int exp_compress(int elen, const double *e, double *h)
+{
+    if (elen == 0) return 0;
+    int bottom = elen - 1;
+    double q = e[bottom], qn, t;
+    for (int i = elen - 2; i >= 0; i--) {
+        exp_fast_two_sum(q, e[i], &qn, &t);
+        if (t != 0) {
+            h[bottom--] = qn;
+            q = t;
+        } else {
+            q = qn;
+        }
+    }
+    int top = 0;
+    for (int i = bottom + 1; i < elen; i++) {
+        exp_fast_two_sum(h[i], q, &qn, &t);
+        if (t != 0) h[top++] = t;
+        q = qn;
+    }
+    if (q != 0) h[top++] = q;
+    return top;
+}

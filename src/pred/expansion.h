@@ -75,6 +75,10 @@ int exp_scale(int elen, const double *e, double b, double *h);
 int exp_mul(int elen, const double *e, int flen, const double *f, double *h, double *tmp,
             double *tmp2);
 
+/* h = e compressed (Shewchuk's Compress, section 2.8): same value, nonadjacent, usually far
+ * fewer components (a product's many tiny error terms merge).  h may alias e. */
+int exp_compress(int elen, const double *e, double *h);
+
 /* e = -e in place. */
 static inline void exp_negate(int elen, double *e)
 {
