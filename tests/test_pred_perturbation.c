@@ -117,7 +117,7 @@ static void test_insphere_sos_on_cospherical_lattice_points_and_small_grid(void)
     TEST_REQUIRE(n > 50, "lattice points %d", n);
     static const int scales[] = {0, -7, 33, -1074, 960};
     int decided_by_sos = 0;
-    for (int t = 0; t < 4000; t++) {
+    for (int t = 0; t < 2000; t++) {
         double q[5][3];
         int k = scales[t % 5], grid = (t / 5) % 2;
         int ok = 1;
@@ -144,7 +144,8 @@ static void test_insphere_sos_on_cospherical_lattice_points_and_small_grid(void)
             decided_by_sos++;
         if (check_sos_tuple((const double (*)[3])q) > 0) break;
     }
-    TEST_CHECK(decided_by_sos > 500, "too few perturbed decisions: %d", decided_by_sos);
+    TEST_CHECK(decided_by_sos > 250, "too few perturbed decisions: %d", decided_by_sos);
+    printf("  %d perturbed decisions among the lattice / grid tuples\n", decided_by_sos);
 }
 
 /* plain 2D in-circle of (a,b,c,e) in the xy plane, integers: +1 inside for any orientation */
