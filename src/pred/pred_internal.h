@@ -49,10 +49,4 @@ int pred_orient2d_gmp(const double *a, const double *b, const double *c, int u, 
 int pred_lifted2d_gmp(const double *a, const double *b, const double *c, const double *e,
                       int u, int w);
 
-/* Exact stages in order (int, expansions, GMP), counting into cnt; called after the filter. */
-int pred_orient3d_exact(const double *a, const double *b, const double *c, const double *d,
-                        pred_counters *cnt);
-int pred_insphere_exact(const double *a, const double *b, const double *c, const double *d,
-                        const double *e, pred_counters *cnt);
-
 #endif
