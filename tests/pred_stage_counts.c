@@ -11,6 +11,7 @@
  * For each 5-tuple (a,b,c,d,e): orient3d(a,b,c,d), insphere(a,b,c,d,e), and when orient3d != 0
  * insphere_sos on the positively oriented tet (a,b swapped if needed).
  */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "pred/filter.h"
 #include "pred/pred_internal.h"
 #include "pred_gen.h"
