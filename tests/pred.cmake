@@ -24,11 +24,11 @@ if(GTET_CPU_HAS_FMA AND CMAKE_C_COMPILER_ID MATCHES "GNU|Clang")
                  ${CMAKE_CURRENT_SOURCE_DIR}/testutil.c ${GTET_PRED_SOURCES})
   target_include_directories(test_fp_contraction_is_detected PRIVATE
                              ${PROJECT_SOURCE_DIR}/src ${CMAKE_CURRENT_SOURCE_DIR} ${GMP_INCLUDE_DIR})
-  # appended after the project-wide -ffp-contract=off, so these win
-  # (with -O2 also in Debug builds: GCC contracts only when optimizing; -fno-rounding-math
-  # because clang never contracts under -frounding-math)
-  target_compile_options(test_fp_contraction_is_detected PRIVATE
-                         -O2 -ffp-contract=fast -mfma -fno-rounding-math)
+  # Replace (not append to) the project-wide options: clang ignores a later
+  # -ffp-contract=fast after -fno-unsafe-math-optimizations / under -frounding-math.
+  # -O2 in every build type: GCC contracts only when optimizing.
+  set_property(TARGET test_fp_contraction_is_detected PROPERTY COMPILE_OPTIONS
+               -O2 -ffp-contract=fast -mfma)
   target_link_libraries(test_fp_contraction_is_detected PRIVATE ${GMP_LIBRARY} ${M_LIBRARY})
   add_test(NAME test_fp_contraction_is_detected COMMAND test_fp_contraction_is_detected)
   set_tests_properties(test_fp_contraction_is_detected PROPERTIES WILL_FAIL TRUE TIMEOUT 60)
