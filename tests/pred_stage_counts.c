@@ -3,13 +3,16 @@
  *
  *   pred_stage_counts           1M random tuples in [0,1)^3; all 5-tuples of the 4^3 sub-grid
  *                               {0..3}^3 of the 20^3 grid; 1M random 5-tuples of distinct points
- *                               of the 20^3 grid {0..19}^3; then ns per call of each stage.
+ *                               of the 20^3 grid {0..19}^3; 100k random 5-tuples of points
+ *                               rounded onto the unit sphere; then ns per call of each stage.
  *   pred_stage_counts --timing  only the ns per call (CPU time of this thread).
  *   pred_stage_counts --quick   20k random, the 3^3 sub-grid, 20k grid samples, no timing; checks
  *                               that the counters are consistent (exit status 1 if not): the
  *                               ctest test_pred_stage_counts_are_consistent.
- * For each 5-tuple (a,b,c,d,e): orient3d(a,b,c,d), insphere(a,b,c,d,e), and when orient3d != 0
- * insphere_sos on the positively oriented tet (a,b swapped if needed).
+ * For each 5-tuple (a,b,c,d,e): orient3d(a,b,c,d), then insphere(a,b,c,d,e) once: through
+ * insphere_sos on the positively oriented tet (a,b swapped if needed) when orient3d != 0, plain
+ * when the tet is flat.  So insphere calls = tuples; orient3d calls = tuples + the orient3d
+ * evaluations of the perturbation.
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "pred/filter.h"
@@ -54,9 +57,12 @@ static void tuple(gtet_pred_counters *c, const double *a, const double *b, const
                   const double *d, const double *e)
 {
     int o = pred_orient3d(a, b, cc, d, c);
-    pred_insphere(a, b, cc, d, e, c);
-    if (o > 0) pred_insphere_sos(a, b, cc, d, e, c);
-    if (o < 0) pred_insphere_sos(b, a, cc, d, e, c);
+    if (o > 0)
+        pred_insphere_sos(a, b, cc, d, e, c); /* calls insphere once, then perturbs a zero */
+    else if (o < 0)
+        pred_insphere_sos(b, a, cc, d, e, c);
+    else
+        pred_insphere(a, b, cc, d, e, c);
 }
 
 static void random_tuples(long n)
@@ -117,6 +123,28 @@ static void grid_sample(long n)
     }
     char what[128];
     snprintf(what, sizeof what, "%ld random 5-tuples of distinct points of the 20^3 grid {0..19}^3:", n);
+    print_counts(what, &c);
+}
+
+static void sphere_sample(long n)
+{
+    gtet_pred_counters c;
+    memset(&c, 0, sizeof c);
+    tu_rng r = {77};
+    for (long t = 0; t < n; t++) {
+        double p[5][3];
+        for (int i = 0; i < 5; i++) {
+            double v[3], n2;
+            do {
+                for (int j = 0; j < 3; j++) v[j] = 2 * tu_uniform(&r) - 1;
+                n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            } while (n2 < 0.01 || n2 > 1);
+            for (int j = 0; j < 3; j++) p[i][j] = v[j] / sqrt(n2);
+        }
+        tuple(&c, p[0], p[1], p[2], p[3], p[4]);
+    }
+    char what[128];
+    snprintf(what, sizeof what, "%ld random 5-tuples of points rounded onto the unit sphere:", n);
     print_counts(what, &c);
 }
 
@@ -206,6 +234,7 @@ int main(int argc, char **argv)
     random_tuples(quick ? 20000 : 1000000);
     subgrid_all(quick ? 3 : 4);
     grid_sample(quick ? 20000 : 1000000);
+    sphere_sample(quick ? 2000 : 100000);
     if (!quick) timing();
     printf(consistent ? "counters consistent\n" : "COUNTERS INCONSISTENT\n");
     return consistent ? 0 : 1;
