@@ -161,7 +161,7 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-enum { K_RANDOM, K_GRID, K_SCALED_LATTICE };
+enum { K_RANDOM, K_GRID, K_SCALED_LATTICE, K_SPHERE };
 
 static void fill(int kind)
 {
@@ -170,6 +170,15 @@ static void fill(int kind)
     tu_rng r = {(uint64_t)kind + 7};
     for (int t = 0; t < NT; t++)
         for (int i = 0; i < 5; i++) {
+            if (kind == K_SPHERE) { /* rounded onto the unit sphere: inexact translations */
+                double v[3], n2;
+                do {
+                    for (int j = 0; j < 3; j++) v[j] = 2 * tu_uniform(&r) - 1;
+                    n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+                } while (n2 < 0.01 || n2 > 1);
+                for (int j = 0; j < 3; j++) tup[t][i][j] = v[j] / sqrt(n2);
+                continue;
+            }
             const int64_t *l = lat[tu_below(&r, (uint64_t)nl)];
             for (int j = 0; j < 3; j++)
                 tup[t][i][j] = kind == K_RANDOM ? tu_uniform(&r)
@@ -209,14 +218,17 @@ static void timing(void)
     time_stage("orient3d filter, random [0,1)", K_RANDOM, f_o_filter, 5000000);
     time_stage("orient3d int path, 20^3 grid", K_GRID, f_o_int, 5000000);
     time_stage("orient3d expansions translated, lattice/2^7", K_SCALED_LATTICE, f_o_exp, 500000);
-    time_stage("orient3d expansions raw, random [0,1)", K_RANDOM, f_o_exp, 200000);
+    time_stage("orient3d expansions translated, random [0,1)", K_RANDOM, f_o_exp, 200000);
+    time_stage("orient3d expansions raw, unit sphere", K_SPHERE, f_o_exp, 200000);
     time_stage("orient3d gmp, random [0,1)", K_RANDOM, f_o_gmp, 300000);
     time_stage("orient3d full chain, random [0,1)", K_RANDOM, f_o_chain, 5000000);
     time_stage("orient3d full chain, 20^3 grid", K_GRID, f_o_chain, 5000000);
     time_stage("insphere filter, random [0,1)", K_RANDOM, f_i_filter, 5000000);
     time_stage("insphere int path, 20^3 grid", K_GRID, f_i_int, 5000000);
     time_stage("insphere expansions translated, lattice/2^7", K_SCALED_LATTICE, f_i_exp, 1000000);
-    time_stage("insphere expansions raw, random [0,1)", K_RANDOM, f_i_exp, 100000);
+    time_stage("insphere expansions translated, random [0,1)", K_RANDOM, f_i_exp, 100000);
+    time_stage("insphere gmp, unit sphere", K_SPHERE, f_i_gmp, 100000);
+    time_stage("insphere full chain, unit sphere", K_SPHERE, f_i_chain, 100000);
     time_stage("insphere gmp, random [0,1)", K_RANDOM, f_i_gmp, 300000);
     time_stage("insphere full chain, random [0,1)", K_RANDOM, f_i_chain, 5000000);
     time_stage("insphere full chain, 20^3 grid", K_GRID, f_i_chain, 5000000);

@@ -122,7 +122,8 @@ static void test_random_doubles_any_exponent_match_oracle(void)
         check_both(p);
     }
     report("any exponent");
-    TEST_CHECK(so.exp_used > 2000 && si.exp_used > 2000, "expansion stage barely exercised");
+    /* insphere: random mantissas make p - e inexact, which insphere leaves to GMP */
+    TEST_CHECK(so.exp_used > 2000, "orient3d expansion stage barely exercised");
 }
 
 /* Exactly coplanar points: d = a + s (b-a) + t (c-a) in integers, then scaled by 2^k (exact),

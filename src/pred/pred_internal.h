@@ -5,7 +5,7 @@
  * 0 when the input is outside its domain (the caller then tries the next stage):
  *   _int : all coordinates are integers below a bound (derived in exact_int.c)
  *   _exp : expansions; all nonzero coordinates fit the band after a power-of-two scaling
- *          (pred_band_scale)
+ *          (pred_band_scale); insphere also needs exactly representable translations p - e
  *   _gmp : always applies (returns the sign directly).
  * Axis pairs (u, w) select a coordinate plane: (0,1) xy, (1,2) yz, (0,2) xz.
  */
