@@ -6,6 +6,7 @@
  *                               of the 20^3 grid {0..19}^3; 100k random 5-tuples of points
  *                               rounded onto the unit sphere; then ns per call of each stage.
  *   pred_stage_counts --timing  only the ns per call (CPU time of this thread).
+ * "integer" counts both integer stages (small integers; the 60-bit integer form).
  *   pred_stage_counts --quick   20k random, the 3^3 sub-grid, 20k grid samples, no timing; checks
  *                               that the counters are consistent (exit status 1 if not): the
  *                               ctest test_pred_stage_counts_are_consistent.
@@ -29,13 +30,13 @@ static void print_counts(const char *what, const gtet_pred_counters *c)
 {
     unsigned long long oc = c->orient_calls, ic = c->insphere_calls;
     printf("%s\n", what);
-    printf("  orient3d  calls %10llu  filter %10llu (%6.2f%%)  exact: int %9llu  expansion %9llu"
+    printf("  orient3d  calls %10llu  filter %10llu (%6.2f%%)  exact: integer %9llu  expansion %9llu"
            "  gmp %7llu  zero %9llu\n", oc, oc - c->orient_exact,
            oc ? 100.0 * (double)(oc - c->orient_exact) / (double)oc : 0.0,
            (unsigned long long)c->orient_int,
            (unsigned long long)(c->orient_exact - c->orient_int - c->orient_gmp),
            (unsigned long long)c->orient_gmp, (unsigned long long)c->orient_zero);
-    printf("  insphere  calls %10llu  filter %10llu (%6.2f%%)  exact: int %9llu  expansion %9llu"
+    printf("  insphere  calls %10llu  filter %10llu (%6.2f%%)  exact: integer %9llu  expansion %9llu"
            "  gmp %7llu  zero %9llu\n", ic, ic - c->insphere_exact,
            ic ? 100.0 * (double)(ic - c->insphere_exact) / (double)ic : 0.0,
            (unsigned long long)c->insphere_int,
@@ -192,6 +193,8 @@ static int f_o_filter(int t) { return pred_orient3d_filter(tup[t][0], tup[t][1],
 static int f_i_filter(int t) { return pred_insphere_filter(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4]); }
 static int f_o_int(int t) { int s = 0; pred_orient3d_int(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }
 static int f_i_int(int t) { int s = 0; pred_insphere_int(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
+static int f_o_wide(int t) { int s = 0; pred_orient3d_wide(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }
+static int f_i_wide(int t) { int s = 0; pred_insphere_wide(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
 static int f_o_exp(int t) { int s = 0; pred_orient3d_exp(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }
 static int f_i_exp(int t) { int s = 0; pred_insphere_exp(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
 static int f_o_gmp(int t) { return pred_orient3d_gmp(tup[t][0], tup[t][1], tup[t][2], tup[t][3]); }
@@ -220,6 +223,7 @@ static void timing(void)
     time_stage("orient3d expansions translated, lattice/2^7", K_SCALED_LATTICE, f_o_exp, 500000);
     time_stage("orient3d expansions translated, random [0,1)", K_RANDOM, f_o_exp, 200000);
     time_stage("orient3d expansions raw, unit sphere", K_SPHERE, f_o_exp, 200000);
+    time_stage("orient3d 60-bit integer form, unit sphere", K_SPHERE, f_o_wide, 1000000);
     time_stage("orient3d gmp, random [0,1)", K_RANDOM, f_o_gmp, 300000);
     time_stage("orient3d full chain, random [0,1)", K_RANDOM, f_o_chain, 5000000);
     time_stage("orient3d full chain, 20^3 grid", K_GRID, f_o_chain, 5000000);
@@ -227,6 +231,8 @@ static void timing(void)
     time_stage("insphere int path, 20^3 grid", K_GRID, f_i_int, 5000000);
     time_stage("insphere expansions translated, lattice/2^7", K_SCALED_LATTICE, f_i_exp, 1000000);
     time_stage("insphere expansions translated, random [0,1)", K_RANDOM, f_i_exp, 100000);
+    time_stage("insphere 60-bit integer form, unit sphere", K_SPHERE, f_i_wide, 1000000);
+    time_stage("insphere 60-bit integer form, random [0,1)", K_RANDOM, f_i_wide, 1000000);
     time_stage("insphere gmp, unit sphere", K_SPHERE, f_i_gmp, 100000);
     time_stage("insphere full chain, unit sphere", K_SPHERE, f_i_chain, 100000);
     time_stage("insphere gmp, random [0,1)", K_RANDOM, f_i_gmp, 300000);

@@ -31,6 +31,13 @@ int pred_orient3d_int(const double *a, const double *b, const double *c, const d
                       int *sign);
 int pred_insphere_int(const double *a, const double *b, const double *c, const double *d,
                       const double *e, int *sign);
+/* orient3d / insphere on the exact integer form of the tuple (common power of two removed)
+ * when every integer is below 2^60: 64/128/192(/320)-bit fixed-width evaluation
+ * (exact_int.c). */
+int pred_orient3d_wide(const double *a, const double *b, const double *c, const double *d,
+                       int *sign);
+int pred_insphere_wide(const double *a, const double *b, const double *c, const double *d,
+                       const double *e, int *sign);
 int pred_orient2d_int(const double *a, const double *b, const double *c, int u, int w,
                       int *sign);
 /* sign of det[(u,w,|.|^2) of a-e; b-e; c-e] (see sos.c) */
