@@ -1,5 +1,7 @@
-/* exact_int.c -- exact small-integer stage: when every coordinate is an integer of small
- * magnitude, the determinants are evaluated exactly in int64_t / __int128.
+/* exact_int.c -- exact integer stages: (1) when every coordinate is an integer of small
+ * magnitude, the determinants are evaluated exactly in int64_t / __int128; (2) the "wide"
+ * stage at the end of the file: the exact integer form of any tuple whose bits span <= 60
+ * binades, in fixed-width 128/192/320-bit two's complement.
  *
  * This is the common exact case on grid inputs (on a 100^3 grid almost every insphere is
  * exactly 0), so it must be cheap: one range+integrality test per coordinate, then the

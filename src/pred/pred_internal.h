@@ -4,6 +4,7 @@
  * Every exact stage returns 1 and stores the exact sign in *sign when it applies to its input,
  * 0 when the input is outside its domain (the caller then tries the next stage):
  *   _int : all coordinates are integers below a bound (derived in exact_int.c)
+ *   _wide: the exact integer form of the tuple (one common power of two removed) fits 60 bits
  *   _exp : expansions; all nonzero coordinates fit the band after a power-of-two scaling
  *          (pred_band_scale); insphere also needs exactly representable translations p - e
  *   _gmp : always applies (returns the sign directly).
