@@ -44,9 +44,10 @@ static inline void tm_orient(const double *v, uint32_t *t)
 /* neighbors by brute-force facet matching */
 static inline void tm_neighbors(tmesh *m)
 {
+    size_t nf = 4 * m->nt;
     free(m->nb);
-    m->nb = malloc(4 * m->nt * sizeof *m->nb);
-    for (size_t i = 0; i < 4 * m->nt; i++) m->nb[i] = GTET_NO_TET;
+    m->nb = malloc((nf ? nf : 1) * sizeof *m->nb);
+    for (size_t i = 0; i < nf; i++) m->nb[i] = GTET_NO_TET;
     for (size_t a = 0; a < m->nt; a++)
         for (size_t b = 0; b < m->nt; b++) {
             if (a == b) continue;

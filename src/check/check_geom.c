@@ -41,7 +41,7 @@ gtet_status chk_orientation(chk_ctx *c)
 {
     const uint32_t *T = c->tets;
     size_t bad = SIZE_MAX;
-#pragma omp parallel for reduction(min : bad) schedule(dynamic, 512)
+#pragma omp parallel for reduction(min : bad) schedule(dynamic, 512) if (c->nt > 8192)
     for (size_t t = 0; t < c->nt; t++) {
         const uint32_t *v = T + 4 * t;
         if (orc_orient3d(P(v[0]), P(v[1]), P(v[2]), P(v[3])) <= 0 && t < bad) bad = t;
@@ -67,7 +67,7 @@ gtet_status chk_delaunay(chk_ctx *c)
 {
     const uint32_t *T = c->tets;
     size_t bad = SIZE_MAX;
-#pragma omp parallel for reduction(min : bad) schedule(dynamic, 512)
+#pragma omp parallel for reduction(min : bad) schedule(dynamic, 512) if (c->nt > 8192)
     for (size_t t = 0; t < c->nt; t++) {
         const uint32_t *v = T + 4 * t;
         for (int f = 0; f < 4; f++) {
@@ -157,7 +157,7 @@ gtet_status chk_full(chk_ctx *c)
 {
     const uint32_t *T = c->tets, *H = c->hull;
     size_t nv = c->nv, bad = SIZE_MAX;
-#pragma omp parallel for reduction(min : bad) schedule(dynamic, 16)
+#pragma omp parallel for reduction(min : bad) schedule(dynamic, 16) if (c->nt * c->nv > 1000000)
     for (size_t t = 0; t < c->nt; t++) {
         const uint32_t *v = T + 4 * t;
         for (size_t w = 0; w < nv; w++) {
