@@ -216,7 +216,7 @@ gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t 
     if (!report) report = &local;
     memset(report, 0, sizeof *report);
     report->tets = nt;
-    if ((!vertices && nv) || (!tets && nt) || (!xyz && n) || (flags & ~(unsigned)GTET_CHECK_FULL)) {
+    if ((!vertices && nv) || (!tets && nt) || (!xyz && n) || (flags & ~CHK_KNOWN_FLAGS)) {
         snprintf(report->message, sizeof report->message,
                  "invalid argument: a NULL array with a nonzero count, or unknown flags");
         return GTET_ERR_ARGUMENT;

@@ -27,6 +27,8 @@
  * The volume comparison (sum of the tets' 6*volume = the volume S encloses, by the divergence
  * theorem) is an independent cross-check of the facet bookkeeping; it follows from the stages
  * above and is kept because it is cheap and catches errors in them.
+ * Orientation, insphere and hull-rule signs come from check_filter.c (interval arithmetic, then
+ * the oracle); the centroid tests and the volume from the oracle directly.
  * The loops over tets run in parallel (OpenMP); each reports its smallest failing index, so the
  * message is the same for any thread count.
  */
@@ -44,11 +46,11 @@ gtet_status chk_orientation(chk_ctx *c)
 #pragma omp parallel for reduction(min : bad) schedule(dynamic, 512) if (c->nt > 8192)
     for (size_t t = 0; t < c->nt; t++) {
         const uint32_t *v = T + 4 * t;
-        if (orc_orient3d(P(v[0]), P(v[1]), P(v[2]), P(v[3])) <= 0 && t < bad) bad = t;
+        if (chk_orient3d(c, P(v[0]), P(v[1]), P(v[2]), P(v[3])) <= 0 && t < bad) bad = t;
     }
     if (bad == SIZE_MAX) return GTET_OK;
     const uint32_t *v = T + 4 * bad;
-    int o = orc_orient3d(P(v[0]), P(v[1]), P(v[2]), P(v[3]));
+    int o = chk_orient3d(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]));
     return chk_fail(c, "tet %zu (%u %u %u %u) is %s (orient3d = %d)", bad, v[0], v[1], v[2], v[3],
                     o < 0 ? "negatively oriented" : "flat", o);
 }
@@ -74,7 +76,7 @@ gtet_status chk_delaunay(chk_ctx *c)
             uint32_t u = c->adj[4 * t + f];
             if (u == GTET_NO_TET || u < t) continue;  /* each interior facet once */
             uint32_t e = apex_across(T, t, u);
-            if (orc_insphere_sos(P(v[0]), P(v[1]), P(v[2]), P(v[3]), P(e)) != -1 && 4 * t + f < bad)
+            if (chk_insphere_sos(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]), P(e)) != -1 && 4 * t + f < bad)
                 bad = 4 * t + (size_t)f;
         }
     }
@@ -99,7 +101,7 @@ gtet_status chk_hull_convex(chk_ctx *c)
     for (size_t h = 0; h < c->nh; h++) {
         const uint32_t *a = H + 3 * h;
         uint32_t d = T[c->hull_tf[h]];
-        if (orc_ghost_conflict(P(a[0]), P(a[1]), P(a[2]), P(d)) != -1)
+        if (chk_ghost_conflict(c, P(a[0]), P(a[1]), P(a[2]), P(d)) != -1)
             return chk_fail(c, "hull facet (%u %u %u) faces into its own tet %u: vertex %u "
                             "conflicts with its ghost", a[0], a[1], a[2], c->hull_tf[h] / 4, d);
         for (int i = 0; i < 3; i++) {
@@ -107,7 +109,7 @@ gtet_status chk_hull_convex(chk_ctx *c)
             uint32_t x = UINT32_MAX;
             for (int j = 0; j < 3; j++)
                 if (b[j] != a[i] && b[j] != a[(i + 1) % 3]) x = b[j];
-            if (orc_ghost_conflict(P(a[0]), P(a[1]), P(a[2]), P(x)) != -1)
+            if (chk_ghost_conflict(c, P(a[0]), P(a[1]), P(a[2]), P(x)) != -1)
                 return chk_fail(c, "the hull is not convex at edge (%u %u): vertex %u of hull facet "
                                 "(%u %u %u) conflicts with the ghost of hull facet (%u %u %u)",
                                 a[i], a[(i + 1) % 3], x, b[0], b[1], b[2], a[0], a[1], a[2]);
@@ -162,7 +164,7 @@ gtet_status chk_full(chk_ctx *c)
         const uint32_t *v = T + 4 * t;
         for (size_t w = 0; w < nv; w++) {
             if (w == v[0] || w == v[1] || w == v[2] || w == v[3]) continue;
-            if (orc_insphere_sos(P(v[0]), P(v[1]), P(v[2]), P(v[3]), P(w)) != -1) {
+            if (chk_insphere_sos(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]), P(w)) != -1) {
                 if (t * nv + w < bad) bad = t * nv + w;
                 break;
             }
@@ -178,7 +180,7 @@ gtet_status chk_full(chk_ctx *c)
         const uint32_t *a = H + 3 * h;
         for (size_t w = 0; w < nv; w++) {
             if (w == a[0] || w == a[1] || w == a[2]) continue;
-            if (orc_ghost_conflict(P(a[0]), P(a[1]), P(a[2]), P(w)) != -1)
+            if (chk_ghost_conflict(c, P(a[0]), P(a[1]), P(a[2]), P(w)) != -1)
                 return chk_fail(c, "vertex %zu conflicts with the ghost of hull facet (%u %u %u): "
                                 "it is beyond the hull", w, a[0], a[1], a[2]);
         }

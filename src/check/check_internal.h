@@ -11,6 +11,13 @@
 
 #include "../gigatet.h"
 
+/* A check flag beside GTET_CHECK_FULL, to move into gigatet.h: every sign from the GMP oracle,
+ * without the interval filter of check_filter.c (slower; for cross-checking the filter). */
+#ifndef GTET_CHECK_NO_FILTER
+#define GTET_CHECK_NO_FILTER (1u << 1)
+#endif
+#define CHK_KNOWN_FLAGS ((unsigned)GTET_CHECK_FULL | (unsigned)GTET_CHECK_NO_FILTER)
+
 typedef struct chk_ctx {
     /* the mesh under test */
     const double *vertices;     /* 3*nv */
@@ -40,6 +47,15 @@ gtet_status chk_oom(chk_ctx *c);
 /* Facet f of tet t (opposite its vertex f) as seen from outside the tet: (o[0], o[1], o[2])
  * with orient3d(o[0], o[1], o[2], tets[4t+f]) < 0 when the tet is positively oriented. */
 void chk_outward_facet(const uint32_t *tet, int f, uint32_t o[3]);
+
+/* The predicates the stages use (check_filter.c): the oracle's exact sign, decided first by
+ * interval arithmetic when c->flags lacks GTET_CHECK_NO_FILTER. */
+int chk_orient3d(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                 const double *d);
+int chk_insphere_sos(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                     const double *d, const double *e);
+int chk_ghost_conflict(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                       const double *e);
 
 gtet_status chk_inputs(chk_ctx *c);        /* check.c */
 gtet_status chk_orientation(chk_ctx *c);   /* check_geom.c */

@@ -17,7 +17,7 @@ gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsig
     gtet_check_report local;
     if (!report) report = &local;
     memset(report, 0, sizeof *report);
-    if (!mesh || (!xyz && n) || (flags & ~(unsigned)GTET_CHECK_FULL)) {
+    if (!mesh || (!xyz && n) || (flags & ~CHK_KNOWN_FLAGS)) {
         snprintf(report->message, sizeof report->message,
                  "invalid argument: no mesh, NULL points with n > 0, or unknown flags");
         return GTET_ERR_ARGUMENT;
