@@ -177,6 +177,130 @@ static void test_brio_is_identical_for_any_thread_count_and_input_order(void)
     free(other);
 }
 
+static void test_brio_breaks_ties_in_a_moore_cell_by_the_shuffle_hash(void)
+{
+    /* 40000 points on 27 positions: every Moore cell holds long runs of equal keys */
+    enum { N = 40000 };
+    double *p = malloc(4 * N * sizeof *p);
+    uint32_t *ids = scrambled_ids(N, 5), *orig = scrambled_ids(N, 5), *other = scrambled_ids(N, 6);
+    uint64_t *key = malloc(N * sizeof *key);
+    TEST_REQUIRE(p && ids && orig && other && key, "out of memory");
+    tu_rng rng = {77};
+    for (size_t i = 0; i < 4 * (size_t)N; i++)
+        p[i] = (double)tu_below(&rng, 3);
+    size_t end[64], end2[64];
+    int rounds, rounds2;
+    TEST_REQUIRE(sort_brio(p, 4, ids, N, 9, 100, 4, end, &rounds, 2) == GTET_OK, "failed");
+    check_round_ends(end, rounds, N, 100, 4);
+    check_brio(p, N, orig, ids, end, rounds);
+    const uint64_t salt = sort_hash64(9);
+    size_t lo = 0, ties = 0;
+    for (int r = 0; r < rounds; r++) {
+        const size_t m = end[r] - lo;
+        double box[6];
+        sort_bbox(p, 4, ids + lo, m, box, 1);
+        sort_moore_keys_ids(p, 4, ids + lo, m, box, sort_brio_bits(m), key, 1);
+        for (size_t i = 1; i < m; i++)
+            if (key[i - 1] == key[i]) {
+                ties++;
+                TEST_REQUIRE(sort_hash64(ids[lo + i - 1] + salt) < sort_hash64(ids[lo + i] + salt),
+                             "round %d: equal keys not in hash order at %zu", r, lo + i);
+            }
+        lo = end[r];
+    }
+    TEST_CHECK(ties > N / 2, "only %zu ties: the test does not test ties", ties);
+    TEST_REQUIRE(sort_brio(p, 4, other, N, 9, 100, 4, end2, &rounds2, 1) == GTET_OK, "failed");
+    TEST_CHECK(memcmp(other, ids, N * sizeof *ids) == 0,
+               "with ties, the order depends on the input order or the thread count");
+    free(p);
+    free(ids);
+    free(orig);
+    free(other);
+    free(key);
+}
+
+typedef struct ref_item {
+    uint64_t key;
+    uint32_t id, pos;
+} ref_item;
+
+static int ref_cmp(const void *a, const void *b)
+{
+    const ref_item *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key < y->key ? -1 : 1;
+    return x->pos < y->pos ? -1 : x->pos > y->pos;
+}
+
+/* The definition of sort.h, literally: qsort by hash, cut with the documented rule, each round
+ * stably qsorted by its Moore key. */
+static void reference_brio(const double *p, uint32_t *ids, size_t n, uint64_t seed, size_t first,
+                           double ratio)
+{
+    ref_item *it = malloc(n * sizeof *it);
+    uint64_t *key = malloc(n * sizeof *key);
+    if (!it || !key) {
+        TEST_CHECK(0, "out of memory");
+        return;
+    }
+    const uint64_t salt = sort_hash64(seed);
+    for (size_t i = 0; i < n; i++)
+        it[i] = (ref_item){sort_hash64(ids[i] + salt), ids[i], (uint32_t)i};
+    qsort(it, n, sizeof *it, ref_cmp);
+    for (size_t i = 0; i < n; i++)
+        ids[i] = it[i].id;
+    size_t down[64];
+    int r = 0;
+    down[r++] = n;
+    while (down[r - 1] > first && r < 64) {
+        double q = floor((double)down[r - 1] / ratio);
+        size_t nx = q < 1 ? 1 : (size_t)q;
+        down[r] = nx > down[r - 1] - 1 ? down[r - 1] - 1 : nx;
+        r++;
+    }
+    size_t lo = 0;
+    for (int k = r - 1; k >= 0; k--) {
+        const size_t m = down[k] - lo;
+        double box[6];
+        sort_bbox(p, 4, ids + lo, m, box, 1);
+        sort_moore_keys_ids(p, 4, ids + lo, m, box, sort_brio_bits(m), key, 1);
+        for (size_t i = 0; i < m; i++)
+            it[i] = (ref_item){key[i], ids[lo + i], (uint32_t)i};
+        qsort(it, m, sizeof *it, ref_cmp);
+        for (size_t i = 0; i < m; i++)
+            ids[lo + i] = it[i].id;
+        lo = down[k];
+    }
+    free(it);
+    free(key);
+}
+
+static void test_brio_equals_the_literal_definition(void)
+{
+    static const size_t sizes[] = {1, 7, 3000, 60000};
+    for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
+        for (int ties = 0; ties < 2; ties++) {
+            const size_t n = sizes[s];
+            double *p = random_points(n, 500 + s);
+            uint32_t *ids = scrambled_ids(n, 600 + s), *ref = scrambled_ids(n, 600 + s);
+            TEST_REQUIRE(p && ids && ref, "out of memory");
+            if (ties)
+                for (size_t i = 0; i < 4 * n; i++)
+                    p[i] = floor(p[i] * 3);
+            reference_brio(p, ref, n, 31, 500, 5.5);
+            size_t end[64];
+            int rounds;
+            TEST_REQUIRE(sort_brio(p, 4, ids, n, 31, 500, 5.5, end, &rounds, 2) == GTET_OK,
+                         "failed");
+            TEST_CHECK(memcmp(ids, ref, n * sizeof *ids) == 0,
+                       "n=%zu ties=%d: sort_brio differs from the literal definition", n, ties);
+            free(p);
+            free(ids);
+            free(ref);
+        }
+    }
+}
+
 static void test_brio_rejects_bad_arguments(void)
 {
     double p[8] = {0};
@@ -200,6 +324,8 @@ int main(void)
     TU_RUN(test_brio_is_a_permutation_in_moore_ordered_rounds_of_the_specified_sizes);
     TU_RUN(test_brio_rounds_grow_by_ratio_from_a_small_first_round);
     TU_RUN(test_brio_is_identical_for_any_thread_count_and_input_order);
+    TU_RUN(test_brio_breaks_ties_in_a_moore_cell_by_the_shuffle_hash);
+    TU_RUN(test_brio_equals_the_literal_definition);
     TU_RUN(test_brio_rejects_bad_arguments);
     return tu_finish();
 }

@@ -25,6 +25,7 @@
  * count; the loop is a static OpenMP for.
  */
 #include "sort.h"
+#include "sort_internal.h"
 
 #include <float.h>
 #include <math.h>
@@ -185,6 +186,37 @@ static void keys_common(const double *xyz, size_t stride, const uint32_t *ids, s
         uint32_t y = axis_cell(&km.ax[1], p[1], km.cells, km.maxcell) << pad;
         uint32_t z = axis_cell(&km.ax[2], p[2], km.cells, km.maxcell) << pad;
         keys[i] = key_walk9(tp, x, y, z, levels) >> (3 * pad);
+    }
+}
+
+void sort_moore_keys_rounds(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
+                            const uint8_t *round, int num_rounds, const double (*boxes)[6],
+                            const int *bits, int round_shift, uint64_t *keys, int threads)
+{
+    key_map km[64];
+    int levels[64], pad[64];
+    if (num_rounds > 64)
+        num_rounds = 64;
+    for (int r = 0; r < num_rounds; r++) {
+        int b = bits[r] < 1 ? 1 : bits[r] > MOORE_MAX_BITS ? MOORE_MAX_BITS : bits[r];
+        km[r] = key_map_setup(boxes[r], b);
+        levels[r] = (b + 2) / 3 * 3;
+        pad[r] = levels[r] - b;
+    }
+    moore_table9 t;
+    table9_build(&t);
+    const moore_table9 *tp = &t;
+    const int nt = (threads > 1 && n >= MOORE_PARALLEL_MIN) ? threads : 1;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t i = 0; i < n; i++) {
+        const double *p = xyz + (size_t)ids[i] * stride;
+        const unsigned r = round[i];
+        const key_map *m = &km[r];
+        const int pd = pad[r];
+        uint32_t x = axis_cell(&m->ax[0], p[0], m->cells, m->maxcell) << pd;
+        uint32_t y = axis_cell(&m->ax[1], p[1], m->cells, m->maxcell) << pd;
+        uint32_t z = axis_cell(&m->ax[2], p[2], m->cells, m->maxcell) << pd;
+        keys[i] = (uint64_t)r << round_shift | key_walk9(tp, x, y, z, levels[r]) >> (3 * pd);
     }
 }
 

@@ -60,12 +60,15 @@ void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
  * *num_rounds <= 64) the exclusive end of round r.  Returns GTET_OK or
  * GTET_ERR_OUT_OF_MEMORY.
  * Precisely: the shuffle sorts ids by sort_hash64(id + sort_hash64(seed)) (a bijection of the
- * id, so no ties: the order depends on the set of ids, not on their order in ids[]).  Round
+ * id, so no ties among distinct ids: the order depends on the set of ids, not on their order
+ * in ids[]; ids must be distinct -- with repeated ids the output is still a permutation of
+ * ids[], but equal ids stay in one round, so round sizes may differ from the rule below).  Round
  * ends: round_end[R-1] = n and, while round_end[r] > first,
  *   round_end[r-1] = min(max(floor(round_end[r] / ratio), 1), round_end[r] - 1);
  * if that would make more than 64 rounds, the smallest ones are merged into the first (which
  * then holds more than `first` points).  Round r = [round_end[r-1], round_end[r]) is stably
- * sorted by sort_moore_keys_ids with sort_bbox of its points and sort_brio_bits(its size).
+ * sorted by sort_moore_keys_ids with sort_bbox of its points and sort_brio_bits(its size)
+ * (equal keys thus stay in hash order).  Memory: 21 bytes per point, freed on return.
  * Additions: GTET_ERR_ARGUMENT when n > 0 and a pointer is NULL, first == 0, !(ratio > 1),
  * or n > 2^32.  n == 0 gives *num_rounds = 0. */
 gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t seed,
