@@ -48,8 +48,8 @@ typedef struct key_map {
     int bits;
 } key_map;
 
-/* 9-bit tables: entry = next_state << 9 | three 3-bit digits, indexed by
- * state << 9 | x3 | y3 << 3 | z3 << 6 (x3: 3 consecutive bits of the x cell, coarsest high). */
+/* 9-bit tables: entry = next_state << 9 | three 3-bit digits, indexed by state << 9 | the 9
+ * bits of the Morton code (octant l of each level, coarsest level high) of 3 levels. */
 typedef struct moore_table9 {
     uint16_t top[512];
     uint16_t hil[SORT_HILBERT_STATES * 512];
@@ -111,18 +111,17 @@ static inline uint64_t key_walk3(uint32_t x, uint32_t y, uint32_t z, int bits)
 static void table9_build(moore_table9 *t)
 {
     for (unsigned idx = 0; idx < 512; idx++) {
-        unsigned x3 = idx & 7u, y3 = (idx >> 3) & 7u, z3 = idx >> 6;
         for (int s = -1; s < SORT_HILBERT_STATES; s++) {
             unsigned e = 0, digits = 0;
             for (int lev = 2; lev >= 0; lev--) {
-                unsigned l = octant(x3, y3, z3, lev);
+                const unsigned l = (idx >> (3 * lev)) & 7u;  /* Morton: octant per level */
                 if (lev == 2)
                     e = s < 0 ? sort_moore3_[l] : sort_hilbert3_[s][l];
                 else
                     e = sort_hilbert3_[e >> 3][l];
                 digits = digits << 3 | (e & 7u);
             }
-            uint16_t v = (uint16_t)((e >> 3) << 9 | digits);
+            const uint16_t v = (uint16_t)((e >> 3) << 9 | digits);
             if (s < 0)
                 t->top[idx] = v;
             else
@@ -131,23 +130,79 @@ static void table9_build(moore_table9 *t)
     }
 }
 
-static inline unsigned chunk9(uint32_t x, uint32_t y, uint32_t z, int s)
+/* Bit k of v (k < 21) to bit 3k: the Morton interleave without pdep. */
+static inline uint64_t spread3(uint32_t v)
 {
-    return ((x >> s) & 7u) | ((y >> s) & 7u) << 3 | ((z >> s) & 7u) << 6;
+    uint64_t x = v & 0x1fffffu;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
 }
 
-/* 9 bits per step over `levels` (a multiple of 3) levels; cells already padded. */
-static inline uint64_t key_walk9(const moore_table9 *t, uint32_t x, uint32_t y, uint32_t z,
-                                 int levels)
+/* Keys of points ids[i0..i0+4) (ids NULL: i0..i0+4; cnt < 4 lanes used) in lockstep: the
+ * lookups of one level are independent, so the core overlaps their latencies, where a single
+ * walk is a chain of dependent loads.  Every lane walks the block's largest level count; a
+ * lane with fewer bits is padded further, which the prefix property allows. */
+static inline void keys_block4(const double *xyz, size_t stride, const uint32_t *ids, size_t i0,
+                               int cnt, const uint8_t *round, const key_map *km,
+                               int round_shift, const moore_table9 *t, uint64_t *keys)
 {
-    int s = levels - 3;
-    unsigned e = t->top[chunk9(x, y, z, s)];
-    uint64_t key = e & 511u;
-    for (s -= 3; s >= 0; s -= 3) {
-        e = t->hil[(e & ~511u) | chunk9(x, y, z, s)];
-        key = key << 9 | (e & 511u);
+    uint32_t x[4], y[4], z[4];
+    int shift[4], levels = 3;
+    unsigned rr[4];
+    for (int j = 0; j < 4; j++) {
+        const size_t i = i0 + (size_t)(j < cnt ? j : 0);
+        rr[j] = round ? round[i] : 0u;
+        const int b = km[rr[j]].bits;
+        if ((b + 2) / 3 * 3 > levels)
+            levels = (b + 2) / 3 * 3;
     }
-    return key;
+    for (int j = 0; j < 4; j++) {
+        const size_t i = i0 + (size_t)(j < cnt ? j : 0);
+        const double *p = xyz + (ids ? (size_t)ids[i] : i) * stride;
+        const key_map *m = &km[rr[j]];
+        const int pad = levels - m->bits;
+        x[j] = axis_cell(&m->ax[0], p[0], m->cells, m->maxcell) << pad;
+        y[j] = axis_cell(&m->ax[1], p[1], m->cells, m->maxcell) << pad;
+        z[j] = axis_cell(&m->ax[2], p[2], m->cells, m->maxcell) << pad;
+        shift[j] = 3 * pad;
+    }
+    uint64_t mort[4], key[4];
+    unsigned e[4];
+    for (int j = 0; j < 4; j++)
+        mort[j] = spread3(x[j]) | spread3(y[j]) << 1 | spread3(z[j]) << 2;
+    int s = 3 * (levels - 3);
+    for (int j = 0; j < 4; j++) {
+        e[j] = t->top[(mort[j] >> s) & 511u];
+        key[j] = e[j] & 511u;
+    }
+    for (s -= 9; s >= 0; s -= 9) {
+        for (int j = 0; j < 4; j++) {
+            e[j] = t->hil[(e[j] & ~511u) | (unsigned)((mort[j] >> s) & 511u)];
+            key[j] = key[j] << 9 | (e[j] & 511u);
+        }
+    }
+    for (int j = 0; j < cnt; j++)
+        keys[i0 + (size_t)j] = (uint64_t)rr[j] << round_shift | key[j] >> shift[j];
+}
+
+static void keys_blocks(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
+                        const uint8_t *round, const key_map *km, int round_shift,
+                        uint64_t *keys, int nt)
+{
+    moore_table9 t;
+    table9_build(&t);
+    const moore_table9 *tp = &t;
+    const size_t nblocks = (n + 3) / 4;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+    for (size_t b = 0; b < nblocks; b++) {
+        const size_t i0 = 4 * b;
+        const int cnt = n - i0 < 4 ? (int)(n - i0) : 4;
+        keys_block4(xyz, stride, ids, i0, cnt, round, km, round_shift, tp, keys);
+    }
 }
 
 static void keys_common(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
@@ -174,19 +229,7 @@ static void keys_common(const double *xyz, size_t stride, const uint32_t *ids, s
         return;
     }
 
-    moore_table9 t;
-    table9_build(&t);
-    const int levels = (bits + 2) / 3 * 3;
-    const int pad = levels - bits;
-    const moore_table9 *tp = &t;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
-    for (size_t i = 0; i < n; i++) {
-        const double *p = xyz + (ids ? (size_t)ids[i] : i) * stride;
-        uint32_t x = axis_cell(&km.ax[0], p[0], km.cells, km.maxcell) << pad;
-        uint32_t y = axis_cell(&km.ax[1], p[1], km.cells, km.maxcell) << pad;
-        uint32_t z = axis_cell(&km.ax[2], p[2], km.cells, km.maxcell) << pad;
-        keys[i] = key_walk9(tp, x, y, z, levels) >> (3 * pad);
-    }
+    keys_blocks(xyz, stride, ids, n, NULL, &km, 0, keys, nt);
 }
 
 void sort_moore_keys_rounds(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
@@ -194,30 +237,14 @@ void sort_moore_keys_rounds(const double *xyz, size_t stride, const uint32_t *id
                             const int *bits, int round_shift, uint64_t *keys, int threads)
 {
     key_map km[64];
-    int levels[64], pad[64];
     if (num_rounds > 64)
         num_rounds = 64;
     for (int r = 0; r < num_rounds; r++) {
-        int b = bits[r] < 1 ? 1 : bits[r] > MOORE_MAX_BITS ? MOORE_MAX_BITS : bits[r];
+        const int b = bits[r] < 1 ? 1 : bits[r] > MOORE_MAX_BITS ? MOORE_MAX_BITS : bits[r];
         km[r] = key_map_setup(boxes[r], b);
-        levels[r] = (b + 2) / 3 * 3;
-        pad[r] = levels[r] - b;
     }
-    moore_table9 t;
-    table9_build(&t);
-    const moore_table9 *tp = &t;
     const int nt = (threads > 1 && n >= MOORE_PARALLEL_MIN) ? threads : 1;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
-    for (size_t i = 0; i < n; i++) {
-        const double *p = xyz + (size_t)ids[i] * stride;
-        const unsigned r = round[i];
-        const key_map *m = &km[r];
-        const int pd = pad[r];
-        uint32_t x = axis_cell(&m->ax[0], p[0], m->cells, m->maxcell) << pd;
-        uint32_t y = axis_cell(&m->ax[1], p[1], m->cells, m->maxcell) << pd;
-        uint32_t z = axis_cell(&m->ax[2], p[2], m->cells, m->maxcell) << pd;
-        keys[i] = (uint64_t)r << round_shift | key_walk9(tp, x, y, z, levels[r]) >> (3 * pd);
-    }
+    keys_blocks(xyz, stride, ids, n, round, km, round_shift, keys, nt);
 }
 
 void sort_moore_keys(const double *xyz, size_t stride, size_t n, const double bbox[6], int bits,
