@@ -53,6 +53,7 @@ typedef struct key_map {
 typedef struct moore_table9 {
     uint16_t top[512];
     uint16_t hil[SORT_HILBERT_STATES * 512];
+    uint32_t spread[256];  /* bit k of the byte to bit 3k (the Morton interleave) */
 } moore_table9;
 
 static axis_map axis_setup(double lo, double hi, double cells)
@@ -128,18 +129,25 @@ static void table9_build(moore_table9 *t)
                 t->hil[(unsigned)s << 9 | idx] = v;
         }
     }
+    for (unsigned b = 0; b < 256; b++) {
+        uint32_t v = 0;
+        for (int k = 0; k < 8; k++)
+            v |= ((b >> k) & 1u) << (3 * k);
+        t->spread[b] = v;
+    }
 }
 
-/* Bit k of v (k < 21) to bit 3k: the Morton interleave without pdep. */
-static inline uint64_t spread3(uint32_t v)
+/* Morton code of cells x, y, z < 2^21: bit k of x, y, z to bits 3k, 3k+1, 3k+2, a byte of
+ * each at a time through the spread table (no pdep). */
+static inline uint64_t morton(const moore_table9 *t, uint32_t x, uint32_t y, uint32_t z)
 {
-    uint64_t x = v & 0x1fffffu;
-    x = (x | x << 32) & 0x1f00000000ffffULL;
-    x = (x | x << 16) & 0x1f0000ff0000ffULL;
-    x = (x | x << 8) & 0x100f00f00f00f00fULL;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-    x = (x | x << 2) & 0x1249249249249249ULL;
-    return x;
+    uint64_t m = 0;
+    for (int g = 2; g >= 0; g--) {
+        const int s = 8 * g;
+        m = m << 24 | (uint64_t)(t->spread[(x >> s) & 255u] | t->spread[(y >> s) & 255u] << 1 |
+                                 t->spread[(z >> s) & 255u] << 2);
+    }
+    return m;
 }
 
 /* Keys of points ids[i0..i0+4) (ids NULL: i0..i0+4; cnt < 4 lanes used) in lockstep: the
@@ -173,7 +181,7 @@ static inline void keys_block4(const double *xyz, size_t stride, const uint32_t 
     uint64_t mort[4], key[4];
     unsigned e[4];
     for (int j = 0; j < 4; j++)
-        mort[j] = spread3(x[j]) | spread3(y[j]) << 1 | spread3(z[j]) << 2;
+        mort[j] = morton(t, x[j], y[j], z[j]);
     int s = 3 * (levels - 3);
     for (int j = 0; j < 4; j++) {
         e[j] = t->top[(mort[j] >> s) & 511u];
