@@ -56,8 +56,15 @@ int main(int argc, char **argv)
         for (int a = 2; a < argc && nsizes < 16; a++)
             sizes[nsizes++] = (size_t)strtoull(argv[a], NULL, 10);
     }
-    printf("# sort_bench: median of %d runs, seconds; omp_get_max_threads() = %d\n", runs,
-           omp_get_max_threads());
+    char load[64] = "?";
+    FILE *f = fopen("/proc/loadavg", "r");  /* the machine may be shared: say how busy */
+    if (f) {
+        if (!fgets(load, sizeof load, f))
+            strcpy(load, "?\n");
+        fclose(f);
+    }
+    printf("# sort_bench: median of %d runs, seconds; omp_get_max_threads() = %d; loadavg %s",
+           runs, omp_get_max_threads(), load);
     printf("%10s %3s %9s %9s %9s %12s %9s %9s\n", "n", "thr", "keys63", "radix63", "qsort63",
            "keys+radixB", "brio", "speedup");
     for (int s = 0; s < nsizes; s++) {

@@ -6,12 +6,14 @@
  * curve): the first level by the Moore table (the 8 octants in a loop), every finer level by
  * the Hilbert table of the current state, 3 key bits per level.
  *
- * Speed: for large n the 3-bit tables are expanded, once per call and on the caller's stack,
- * into 9-bit tables (3 levels per lookup: 7 dependent lookups for 21 bits instead of 21).  The
- * 9-bit walk needs a multiple of 3 levels, so the cells are padded with zero bits at the fine
- * end and the padded levels' digits are shifted out: by the prefix property (a level's digit
- * and state never depend on finer levels) that leaves exactly the key of `bits` levels.  Both
- * walks are tested to agree.
+ * Speed: for large n the 3-bit tables are expanded, once per call and on the caller's stack
+ * (13 KB), into 9-bit tables indexed by 9 bits of the cells' Morton code (3 levels per lookup:
+ * 7 dependent lookups for 21 bits instead of 21), and four points are walked in lockstep so
+ * that their independent lookups overlap.  The Morton code comes from a byte spread table (no
+ * pdep).  The 9-bit walk needs a multiple of 3 levels, so the cells are padded with zero bits
+ * at the fine end and the padded levels' digits are shifted out: by the prefix property (a
+ * level's digit and state never depend on finer levels) that leaves exactly the key of `bits`
+ * levels.  Both walks are tested to agree.
  *
  * Why the prefix property also holds through the float-to-cell map: the cell of x is
  * floor((h x - h lo) * 2^bits / (h (hi - lo))); h x - h lo does not depend on bits, and

@@ -5,11 +5,13 @@
  *   - small n, or one thread and n < RADIX_HYBRID_MIN: serial LSD (least significant digit
  *     first) counting passes, all digit histograms counted in one read of the keys; a pass
  *     whose digits are all equal is skipped (few distinct values, constant high bits);
- *   - large n: the hybrid of HXT and the seed paper: one MSD pass on the top 11 bits
- *     (parallel: per-thread histograms of contiguous chunks, a prefix over buckets then
- *     threads, scatter), then every bucket -- a few thousand pairs that fit in cache -- is
- *     finished by the serial LSD on the remaining bits (OpenMP dynamic schedule).  A bucket
- *     holding a large share of n (skewed keys) is instead finished by parallel LSD passes.
+ *   - large n: the hybrid of HXT and the seed paper: one MSD pass on the top 4..11 bits,
+ *     chosen for about 4096 pairs per bucket (parallel: per-thread histograms of contiguous
+ *     chunks, a prefix over buckets then threads, scatter), then every bucket -- a few
+ *     thousand pairs that fit in cache -- is finished by the serial LSD on the remaining bits
+ *     (OpenMP dynamic schedule).  A bucket holding a large share of n (skewed keys) is
+ *     instead finished by parallel LSD passes; if the top digit is constant, nothing moved
+ *     and the hybrid recurses on the lower bits.
  * Digits are at most 11 bits (2048 buckets, the paper's "radix up to 2048"); fewer for small
  * buckets, so that clearing the histograms does not dominate.
  *
