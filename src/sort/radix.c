@@ -34,6 +34,7 @@
 #define RADIX_PARALLEL_MIN 32768    /* below: one thread */
 #define RADIX_HYBRID_MIN 65536      /* from here: MSD pass + per-bucket LSD */
 #define RADIX_MAX_PASSES 6          /* ceil(64 / 11) */
+#define RADIX_MAX_THREADS 256       /* histograms: 16 KiB per thread */
 #define RADIX_BUCKET_LOG2 12        /* the hybrid aims at 2^12 pairs per MSD bucket */
 
 static inline uint64_t low_mask(int bits)
@@ -261,6 +262,8 @@ void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
     }
     if (threads < 1 || n < RADIX_PARALLEL_MIN)
         threads = 1;
+    if (threads > RADIX_MAX_THREADS)
+        threads = RADIX_MAX_THREADS;
     if (threads == 1 && (n < RADIX_HYBRID_MIN || key_bits <= RADIX_BITS) && n <= UINT32_MAX) {
         lsd_serial(keys, idx, tmp_keys, tmp_idx, n, key_bits, 0);
         return;

@@ -49,7 +49,8 @@ void sort_bbox_expand(const double bbox[6], double factor, uint64_t seed, int pa
  * key_bits bits.  tmp_keys / tmp_idx are caller-provided scratch of n entries each.
  * threads <= 1: serial.  The output is the unique stable order, so it never depends on the
  * thread count.  key_bits <= 0: nothing to do; key_bits > 64 is taken as 64.  The parallel
- * path needs threads * 16 KiB of histograms: if that allocation fails it runs serially. */
+ * path uses at most 256 threads and needs 16 KiB of histograms per thread: if that
+ * allocation fails it runs serially. */
 void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
                       uint64_t *tmp_keys, uint32_t *tmp_idx, int threads);
 
