@@ -266,6 +266,47 @@ static void test_bin_round_trips_and_rejects_bad_sizes_and_values(void)
     expect_error(IO_FMT_BIN, buf, bin_file(buf, 2, 2, w), "point 1 (byte offset 40)", "y is NaN", __LINE__);
 }
 
+/* The .bin file reader (which reads straight into the point array) says what the in-memory
+ * parser says. */
+static void test_bin_file_reader_checks_the_size_before_allocating(void)
+{
+    char dir[] = "/tmp/gtet-iob-XXXXXX";
+    TEST_REQUIRE(mkdtemp(dir) != NULL, "mkdtemp failed");
+    char path[256];
+    snprintf(path, sizeof path, "%s/p.bin", dir);
+    const double v[6] = {0.1, -0.0, 0x1p-1074, 1e308, -2, 3}, w[6] = {0, 0, 0, 1, 2, INFINITY};
+    struct { uint64_t count; const double *v; size_t pts, cut; int ok; const char *want; } cases[] = {
+        {2, v, 2, 0, 1, ""},
+        {1152921504606846976ULL, v, 2, 0, 0, "claims 1152921504606846976 points"},
+        {3, v, 2, 0, 0, "claims 3 points"},
+        {1, v, 2, 0, 0, "24 bytes after the 1 points"},
+        {2, w, 2, 0, 0, "point 1 (byte offset 48): z is infinite"},
+        {0, v, 0, 0, 0, "0 points"},
+        {2, v, 2, 51, 0, "too short"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        unsigned char buf[64];
+        size_t len = bin_file(buf, cases[c].count, cases[c].pts, cases[c].v);
+        if (cases[c].cut) len -= cases[c].cut;
+        FILE *f = fopen(path, "wb");
+        fwrite(buf, 1, len, f);
+        fclose(f);
+        double *p = NULL;
+        size_t n = 0;
+        io_error e;
+        memset(&e, 0, sizeof e);
+        io_status s = io_read_points(path, &p, &n, &e);
+        if (cases[c].ok)
+            TEST_CHECK(s == IO_OK && n == 2 && memcmp(p, v, sizeof v) == 0, "case %zu: %s", c, e.message);
+        else
+            TEST_CHECK(s == IO_ERR_INPUT && p == NULL && strstr(e.message, cases[c].want) &&
+                       strstr(e.message, path), "case %zu: '%s' lacks '%s'", c, e.message, cases[c].want);
+        free(p);
+    }
+    remove(path);
+    rmdir(dir);
+}
+
 static void test_read_points_rejects_missing_file_directory_and_unknown_extension(void)
 {
     char dir[] = "/tmp/gtet-io-XXXXXX";
@@ -315,6 +356,7 @@ int main(void)
     TU_RUN(test_ply_binary_little_endian_reads_float_and_double_among_lists);
     TU_RUN(test_ply_rejects_bad_headers_counts_and_values);
     TU_RUN(test_bin_round_trips_and_rejects_bad_sizes_and_values);
+    TU_RUN(test_bin_file_reader_checks_the_size_before_allocating);
     TU_RUN(test_read_points_rejects_missing_file_directory_and_unknown_extension);
     return tu_finish();
 }

@@ -287,6 +287,7 @@ io_status io_read_points(const char *path, double **xyz, size_t *n, io_error *er
         return io_fail(err, IO_ERR_INPUT,
                        "%s: unknown point file extension (expected .xyz, .node, .ply or .bin)",
                        path);
+    if (fmt == IO_FMT_BIN) return io_read_bin_file(path, xyz, n, err);
     char *buf;
     size_t len;
     io_status s = io_load_file(path, &buf, &len, err);

@@ -57,6 +57,9 @@ io_status io_parse_ply(const char *name, const char *buf, size_t len, double **x
 io_status io_parse_bin(const char *name, const unsigned char *buf, size_t len, double **xyz,
                        size_t *n, io_error *err);
 
+/* Read a .bin file straight into the point array (regular files; others via io_parse_bin). */
+io_status io_read_bin_file(const char *path, double **xyz, size_t *n, io_error *err);
+
 /* ---- atomic output ----------------------------------------------------------------------- */
 typedef struct io_out {
     FILE *f;
