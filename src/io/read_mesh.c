@@ -24,13 +24,15 @@ static io_status read_ele(const char *path, io_mesh *m, io_error *err)
     size_t len;
     long base;
     io_status s;
+    char *nbuf;
+    size_t nlen;
     if (!node_path) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory", path);
-    if ((s = io_load_file(node_path, &buf, &len, err)) != IO_OK) goto out;
-    s = io_parse_node(node_path, buf, len, &m->vertices, &m->nv, &base, err);
-    free(buf);
-    buf = NULL;
-    if (s != IO_OK) goto out;
+    /* the .ele first, so that a missing mesh is reported under its own name */
     if ((s = io_load_file(path, &buf, &len, err)) != IO_OK) goto out;
+    if ((s = io_load_file(node_path, &nbuf, &nlen, err)) != IO_OK) goto out;
+    s = io_parse_node(node_path, nbuf, nlen, &m->vertices, &m->nv, &base, err);
+    free(nbuf);
+    if (s != IO_OK) goto out;
     io_text t;
     const char *ts, *te;
     uint64_t h[3] = {0, 4, 0};
