@@ -31,11 +31,17 @@ for f in xyz node ply bin; do
     grep -q '^check=ok ' "$T/out" || fail "check summary: '$(cat "$T/out")'"
     expect 0 "" -- "$G" check "out_$f.msh" --points "in.$f"
 done
-for o in ele node msh vtu; do
-    for f in node ply bin; do
-        cmp -s "out_xyz.$o" "out_$f.$o" || fail "in.$f and in.xyz give different .$o files"
+# the same points in any input format: the same vertices (byte for byte) and the same oriented
+# tets in every output format (compared in canonical form: tet order may vary between runs)
+py=$(find_python json) || fail "no python3 at all"
+for f in xyz node ply bin; do
+    cmp -s out_xyz.node "out_$f.node" || fail "in.$f and in.xyz give different vertices"
+    for o in ele msh vtu; do
+        "$py" "$HERE/canon_tets.py" "out_$f.$o" > "canon_$f.$o" || fail "canon_tets out_$f.$o"
+        cmp -s canon_xyz.ele "canon_$f.$o" || fail "in.$f gives other tets in .$o than in.xyz in .ele"
     done
 done
+[ "$(wc -l < canon_xyz.ele)" -gt 300 ] || fail "suspiciously few tets: $(wc -l < canon_xyz.ele)"
 expect 0 "" -- "$G" check out_xyz.ele --full
 expect 0 "" -- "$G" check out_bin.ele
 
@@ -43,7 +49,11 @@ for f in ply node xyz; do
     expect 0 "" -- "$G" triangulate "hand.$f" -o "hand_$f.ele"
     grep -q '^points=5 duplicates=0 ' "$T/out" || fail "hand.$f: '$(cat "$T/out")'"
 done
-cmp -s hand_xyz.ele hand_ply.ele && cmp -s hand_xyz.ele hand_node.ele || fail "hand-written inputs differ"
+for f in ply node; do
+    cmp -s hand_xyz.node "hand_$f.node" || fail "hand.$f gives other vertices than hand.xyz"
+    [ "$("$py" "$HERE/canon_tets.py" hand_xyz.ele)" = "$("$py" "$HERE/canon_tets.py" "hand_$f.ele")" ] ||
+        fail "hand.$f gives other tets than hand.xyz"
+done
 
 # --check, -q, --stats
 expect 0 "" -- "$G" triangulate in.bin --check
@@ -53,7 +63,7 @@ expect 0 "" -- "$G" triangulate in.bin -o q.ele -q --stats
 [ -s q.ele ] && [ -s q.node ] || fail "-q did not write the mesh"
 expect 0 "" -- "$G" triangulate in.bin --stats -t 2
 [ "$(wc -l < "$T/out")" -eq 2 ] || fail "--stats: expected the summary and one JSON line"
-if py=$(find_python json); then
+if [ -n "$py" ]; then
     tail -n 1 "$T/out" | "$py" -c '
 import json, sys
 s = json.load(sys.stdin)
