@@ -78,16 +78,16 @@ static void test_point_writers_read_back_bit_exact_in_every_format(void)
     TEST_CHECK(entries(dir) == 0, "files left behind in %s", dir);
 }
 
-static void test_mesh_writers_read_back_bit_exact_as_ele_and_msh(void)
+static void test_mesh_writers_read_back_bit_exact_as_ele_msh_and_vtu(void)
 {
     double v[3 * 60];
     size_t nv = awkward_points(v, 3 * 60);
     uint32_t tets[4 * 30];
     tu_rng r = {7};
     for (size_t i = 0; i < 4 * 30; i++) tets[i] = (uint32_t)tu_below(&r, nv);
-    const char *names[] = {"m.ele", "m.msh"};
+    const char *names[] = {"m.ele", "m.msh", "m.vtu"};
     char path[256], node[256];
-    for (int f = 0; f < 2; f++) {
+    for (int f = 0; f < 3; f++) {
         io_error e;
         io_mesh m;
         in_dir(path, names[f]);
@@ -204,6 +204,15 @@ static void test_mesh_reader_rejects_out_of_range_ids_and_short_files(void)
                "missing .node: %s", e.message);
     remove(path);
     TEST_CHECK(io_read_mesh(in_dir(path, "x.vtk"), &m, &e) == IO_ERR_INPUT, "unknown mesh extension");
+    f = fopen(in_dir(path, "bad.vtu"), "w");
+    fputs("<VTKFile><UnstructuredGrid><Piece NumberOfPoints=\"4\" NumberOfCells=\"1\">\n<Points>\n"
+          "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n0 0 0\n1 0 0\n"
+          "0 1 0\n0 0 1\n</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" "
+          "Name=\"connectivity\" format=\"ascii\">\n0 1 2 4\n</DataArray>\n", f);
+    fclose(f);
+    TEST_CHECK(io_read_mesh(path, &m, &e) == IO_ERR_INPUT && strstr(e.message, "bad.vtu:12:") &&
+               strstr(e.message, "connectivity entry 3"), "bad .vtu: %s", e.message);
+    remove(path);
 }
 
 int main(void)
@@ -214,7 +223,7 @@ int main(void)
         return 1;
     }
     TU_RUN(test_point_writers_read_back_bit_exact_in_every_format);
-    TU_RUN(test_mesh_writers_read_back_bit_exact_as_ele_and_msh);
+    TU_RUN(test_mesh_writers_read_back_bit_exact_as_ele_msh_and_vtu);
     TU_RUN(test_ele_files_are_one_based_tetgen_with_17_digit_coordinates);
     TU_RUN(test_vtu_declares_counts_and_tetra_cell_type);
     TU_RUN(test_failed_writes_leave_no_file_and_no_temporary);

@@ -1,7 +1,7 @@
 /* cmd_check_generate.c -- `gigatet check MESH [--points INPUT] [--full] [-q]` and
  * `gigatet generate KIND N [--seed S] -o FILE [-q]`.
  *
- * check reads the mesh back (io_read_mesh: .ele with its .node, or .msh; every vertex id is
+ * check reads the mesh back (io_read_mesh: .ele with its .node, .msh, .vtu; every vertex id is
  * range-checked there) and hands the plain arrays to the exact checker gtet_check_arrays,
  * which rebuilds the adjacency itself.  Exit 5 when an invariant fails, 2 when a file is bad.
  * generate writes the points of io_generate atomically.
@@ -35,8 +35,8 @@ int cli_check(int argc, char **argv)
     }
     if (!mesh_path) return cli_usage("check: no mesh file");
     io_format mf = io_format_of(mesh_path);
-    if (mf != IO_FMT_ELE && mf != IO_FMT_MSH)
-        return cli_usage("%s: check reads .ele (with its .node) or .msh meshes", mesh_path);
+    if (mf != IO_FMT_ELE && mf != IO_FMT_MSH && mf != IO_FMT_VTU)
+        return cli_usage("%s: check reads .ele (with its .node), .msh or .vtu meshes", mesh_path);
 
     io_error ioe;
     io_status is;

@@ -34,7 +34,7 @@ static const char help_text[] =
     "  --check      verify the result with the exact checker before writing it\n"
     "  --stats      print a JSON object of statistics after the summary line\n"
     "  -q           print nothing but errors\n"
-    "check        Verify a mesh (.ele with its .node, or .msh) with the exact checker.\n"
+    "check        Verify a mesh (.ele with its .node, .msh or .vtu) with the exact checker.\n"
     "  --points INPUT  also check that every point of INPUT is a vertex or a duplicate\n"
     "  --full          add the O(n*m) empty-sphere test (small meshes only)\n"
     "generate     Write about N points of KIND to FILE (.xyz, .node, .ply or .bin).\n"

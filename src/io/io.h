@@ -29,8 +29,8 @@
  *   Tets are written in the order of their vertices as given (gigatet's tets are positively
  *   oriented, which is the orientation TetGen, Gmsh and VTK use).
  *
- * Mesh reader (for `gigatet check`): .ele (+ the .node beside it) and .msh (Gmsh 4.1 ASCII;
- * elements other than tetrahedra are skipped).  .vtu is written but not read back.
+ * Mesh reader (for `gigatet check`): .ele (+ the .node beside it), .msh (Gmsh 4.1 ASCII;
+ * elements other than tetrahedra are skipped), .vtu (ASCII DataArrays, tetrahedra only).
  *
  * Generators: io_generate(kind, n, seed) with the kinds listed by io_generator_kinds();
  * reproducible (splitmix64 seeded by `seed`), no global state.
@@ -93,7 +93,7 @@ typedef struct io_mesh {
 io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
                         const uint32_t *tets, size_t nt, io_error *err);
 
-/* Read a tet mesh (.ele with its .node, or .msh).  Vertex ids are range-checked. */
+/* Read a tet mesh (.ele with its .node, .msh, .vtu).  Vertex ids are range-checked. */
 io_status io_read_mesh(const char *path, io_mesh *mesh, io_error *err);
 void io_mesh_free(io_mesh *mesh);
 

@@ -1,5 +1,5 @@
 /* read_mesh.c -- read a tet mesh back (for `gigatet check`): TetGen .ele + .node, Gmsh 4.1
- * ASCII .msh (tetrahedra only), VTK .vtu (ASCII, tetrahedra only).
+ * ASCII .msh (tetrahedra only), VTK .vtu (ASCII DataArrays, every cell a tetra, type 10).
  *
  * The readers are as strict as the point readers: exact column counts, consecutive ids,
  * every vertex reference in range (so the checker never indexes out of bounds), counts
@@ -7,6 +7,8 @@
  */
 #include "io_internal.h"
 
+#include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -279,14 +281,132 @@ out:
     return s;
 }
 
+/* ---- VTK XML UnstructuredGrid, ASCII ----------------------------------------------------- */
+
+static size_t line_at(const char *buf, const char *p)
+{
+    size_t l = 1;
+    for (const char *q = buf; q < p; q++) l += *q == '\n';
+    return l;
+}
+
+/* The text of the ASCII DataArray whose opening tag contains `key`: [*b, *e). */
+static io_status vtu_array(const char *path, const char *buf, const char *key, const char **b,
+                           const char **e, io_error *err)
+{
+    const char *k = strstr(buf, key);
+    if (!k) return io_fail(err, IO_ERR_INPUT, "%s: no DataArray %s", path, key);
+    const char *open = k;
+    while (open > buf && *open != '<') open--;
+    const char *gt = strchr(k, '>');
+    if (!gt) return io_fail(err, IO_ERR_INPUT, "%s:%zu: unterminated tag", path, line_at(buf, k));
+    const char *fmt = strstr(open, "format=\"ascii\"");
+    if (!fmt || fmt > gt)
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: only format=\"ascii\" DataArrays are read",
+                       path, line_at(buf, k));
+    const char *end = strstr(gt, "</DataArray>");
+    if (!end) return io_fail(err, IO_ERR_INPUT, "%s:%zu: no </DataArray>", path, line_at(buf, k));
+    *b = gt + 1;
+    *e = end;
+    return IO_OK;
+}
+
+/* Next number of [*p, e): a double (integer = 0) or an unsigned integer (integer = 1). */
+static int vtu_number(const char **p, const char *e, int integer, double *d, uint64_t *u)
+{
+    const char *q = *p;
+    while (q < e && (*q == ' ' || *q == '\n' || *q == '\t' || *q == '\r')) q++;
+    if (q >= e) return 0;
+    char *end;
+    errno = 0;
+    if (integer) {
+        if (*q < '0' || *q > '9') return 0;
+        *u = strtoull(q, &end, 10);
+    } else {
+        *d = strtod(q, &end);
+        if (!isfinite(*d)) return 0;
+    }
+    /* ERANGE matters for integers only: strtod sets it for denormal results too */
+    if (end == q || end > e || (integer && errno == ERANGE) || (end < e && *end != ' ' && *end != '\n' &&
+                                                   *end != '\t' && *end != '\r'))
+        return 0;
+    *p = end;
+    return 1;
+}
+
+static io_status read_vtu(const char *path, io_mesh *m, io_error *err)
+{
+    char *buf;
+    size_t len;
+    io_status s = io_load_file(path, &buf, &len, err);
+    if (s != IO_OK) return s;
+    const char *piece = strstr(buf, "<Piece"), *b, *e;
+    unsigned long long nv, nt;
+    if (!piece || sscanf(piece, "<Piece NumberOfPoints=\"%llu\" NumberOfCells=\"%llu\"", &nv, &nt) != 2 ||
+        nv > len / 2 || nt > len / 2) {
+        s = io_fail(err, IO_ERR_INPUT, "%s: no <Piece NumberOfPoints=\"..\" NumberOfCells=\"..\">"
+                    " with plausible counts", path);
+        goto out;
+    }
+    m->nv = (size_t)nv;
+    m->nt = (size_t)nt;
+    m->vertices = malloc((m->nv ? m->nv : 1) * 3 * sizeof(double));
+    m->tets = malloc((m->nt ? m->nt : 1) * 4 * sizeof(uint32_t));
+    if (!m->vertices || !m->tets) {
+        s = io_fail(err, IO_ERR_NOMEM, "%s: out of memory", path);
+        goto out;
+    }
+    const char *pts = strstr(buf, "<Points>");
+    if (!pts || (s = vtu_array(path, pts, "NumberOfComponents=\"3\"", &b, &e, err)) != IO_OK) {
+        if (!pts) s = io_fail(err, IO_ERR_INPUT, "%s: no <Points>", path);
+        goto out;
+    }
+    uint64_t u;
+    double d;
+    for (size_t i = 0; i < 3 * m->nv; i++)
+        if (!vtu_number(&b, e, 0, &m->vertices[i], &u)) {
+            s = io_fail(err, IO_ERR_INPUT, "%s:%zu: point coordinate %zu missing or not a finite "
+                        "number", path, line_at(buf, b), i);
+            goto out;
+        }
+    if ((s = vtu_array(path, buf, "Name=\"connectivity\"", &b, &e, err)) != IO_OK) goto out;
+    for (size_t i = 0; i < 4 * m->nt; i++) {
+        if (!vtu_number(&b, e, 1, &d, &u) || u >= m->nv) {
+            s = io_fail(err, IO_ERR_INPUT, "%s:%zu: connectivity entry %zu missing or not a vertex "
+                        "id below %zu", path, line_at(buf, b), i, m->nv);
+            goto out;
+        }
+        m->tets[i] = (uint32_t)u;
+    }
+    if ((s = vtu_array(path, buf, "Name=\"offsets\"", &b, &e, err)) != IO_OK) goto out;
+    for (size_t i = 0; i < m->nt; i++)
+        if (!vtu_number(&b, e, 1, &d, &u) || u != 4 * (uint64_t)(i + 1)) {
+            s = io_fail(err, IO_ERR_INPUT, "%s:%zu: offset %zu is not %llu (cells must be "
+                        "tetrahedra)", path, line_at(buf, b), i, 4 * (unsigned long long)(i + 1));
+            goto out;
+        }
+    if ((s = vtu_array(path, buf, "Name=\"types\"", &b, &e, err)) != IO_OK) goto out;
+    for (size_t i = 0; i < m->nt; i++)
+        if (!vtu_number(&b, e, 1, &d, &u) || u != 10) {
+            s = io_fail(err, IO_ERR_INPUT, "%s:%zu: cell %zu is not of type 10 (VTK_TETRA)", path,
+                        line_at(buf, b), i);
+            goto out;
+        }
+out:
+    free(buf);
+    if (s != IO_OK) io_mesh_free(m);
+    return s;
+}
+
 io_status io_read_mesh(const char *path, io_mesh *m, io_error *err)
 {
     memset(m, 0, sizeof *m);
     switch (io_format_of(path)) {
     case IO_FMT_ELE: return read_ele(path, m, err);
     case IO_FMT_MSH: return read_msh(path, m, err);
+    case IO_FMT_VTU: return read_vtu(path, m, err);
     default:
-        return io_fail(err, IO_ERR_INPUT, "%s: unknown mesh file extension (.ele or .msh are "
-                       "read)", path);
+        return io_fail(err, IO_ERR_INPUT, "%s: unknown mesh file extension (.ele, .msh or .vtu "
+                       "are read)", path);
     }
 }

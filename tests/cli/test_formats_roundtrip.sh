@@ -30,6 +30,7 @@ for f in xyz node ply bin; do
     expect 0 "" -- "$G" check "out_$f.ele" --points "in.$f"
     grep -q '^check=ok ' "$T/out" || fail "check summary: '$(cat "$T/out")'"
     expect 0 "" -- "$G" check "out_$f.msh" --points "in.$f"
+    expect 0 "" -- "$G" check "out_$f.vtu" --points "in.$f"
 done
 # the same points in any input format: the same vertices (byte for byte) and the same oriented
 # tets in every output format (compared in canonical form: tet order may vary between runs)
