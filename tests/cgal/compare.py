@@ -139,18 +139,22 @@ def check_family(name, args, tmp):
             out.append("  FAIL the comparison did not notice a removed tet")
     elif distinct >= 4:
         out.append("  FAIL cgal gave no tets for %d distinct points" % distinct)
+    checks = []  # (what, command, shuffled?)
     if not args.skip_cgal_self:
-        differ(ref, run([args.cgal, "--parallel", "2", path], "cgal-par", t), pts,
-               "CGAL parallel (2 threads) vs CGAL sequential", out)
-        differ(ref, relabel(run([args.cgal, spath], "cgal-shuffled", t), perm, first), pts,
-               "CGAL on the shuffled input vs CGAL", out)
+        checks += [("CGAL parallel (2 threads) vs CGAL sequential",
+                    [args.cgal, "--parallel", "2", path], False),
+                   ("CGAL on the shuffled input vs CGAL", [args.cgal, spath], True)]
     if args.gtet:
-        differ(ref, run([args.gtet, "-t", "1", path], "gigatet", t), pts,
-               "gigatet -t 1 vs CGAL", out)
-        differ(ref, run([args.gtet, "-t", "2", path], "gigatet-t2", t), pts,
-               "gigatet -t 2 vs CGAL", out)
-        differ(ref, relabel(run([args.gtet, "-t", "1", spath], "gigatet-shuffled", t), perm,
-                            first), pts, "gigatet on the shuffled input vs CGAL", out)
+        checks += [("gigatet -t 1 vs CGAL", [args.gtet, "-t", "1", path], False),
+                   ("gigatet -t 2 vs CGAL", [args.gtet, "-t", "2", path], False),
+                   ("gigatet on the shuffled input vs CGAL", [args.gtet, "-t", "1", spath], True)]
+    for what, cmd, shuffled in checks:
+        try:  # one failing program must not hide the other checks, nor lose the input
+            got = run(cmd, what, t)
+        except (RuntimeError, OSError, subprocess.TimeoutExpired) as e:
+            out.append("  FAIL %s: %s" % (what, e))
+            continue
+        differ(ref, relabel(got, perm, first) if shuffled else got, pts, what, out)
     if out:
         os.makedirs("cgal_diff_failures", exist_ok=True)
         pointsets.write_bin(os.path.join("cgal_diff_failures", name + ".bin"), pts)
@@ -186,7 +190,7 @@ def main(argv):
                 status = "FAIL" if out else "ok"
                 print("%-4s %-30s points %7d vertices %7d tets %8d  %.2f s"
                       % (status, name, npts, nv, nt, time.monotonic() - t0), flush=True)
-            except (RuntimeError, subprocess.TimeoutExpired) as e:
+            except (RuntimeError, OSError, subprocess.TimeoutExpired) as e:
                 out = ["  FAIL %s" % e]
                 print("FAIL %-30s" % name, flush=True)
             for line in out:
