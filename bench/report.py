@@ -1,15 +1,17 @@
 #!/usr/bin/env python3
 """report.py RAW.tsv [--runs N] [--commands TEXT] -- the markdown table of a bench/run.sh run.
 
-Per input and tool: median and minimum of the reported seconds over the successful runs,
-the ratio of the medians to CGAL sequential's on the same input in the same run (< 1 is faster
-than CGAL), the number of tets, the median peak RSS and RSS bytes per tet.  Then the issue
+Per input and tool, over the successful runs: median wall and CPU seconds of the meshing
+(each tool's own timer; TetGen has CPU only), minimum wall, the ratios of the medians to CGAL
+sequential's on the same input in the same run (< 1 is faster than CGAL), the number of tets,
+the median peak RSS and RSS bytes per tet.  Then the issue
 goals that the run can decide (gigatet rows only), each with the figures it used.
 """
 import argparse
 import csv
 import datetime
 import math
+import os
 import platform
 import statistics
 from collections import OrderedDict, defaultdict
@@ -35,16 +37,28 @@ def load(path):
 
 
 def summary(rs):
-    ok = [r for r in rs if not r["note"].startswith("failed") and
-          not math.isnan(float(r["seconds"]))]
+    ok = [r for r in rs if not r["note"].startswith("failed")]
     if not ok:
         return None
-    secs = [float(r["seconds"]) for r in ok]
+    secs = [float(r["seconds"]) for r in ok if not math.isnan(float(r["seconds"]))]
+    cpus = [float(r["cpu"]) for r in ok if not math.isnan(float(r["cpu"]))]
     tets = statistics.mode(int(r["tets"]) for r in ok)
     rss = statistics.median(int(r["rss_kb"]) for r in ok)
-    return {"median": statistics.median(secs), "min": min(secs), "n": len(ok), "of": len(rs),
+    nan = float("nan")
+    return {"median": statistics.median(secs) if secs else nan,
+            "min": min(secs) if secs else nan,
+            "cpu": statistics.median(cpus) if cpus else nan, "n": len(ok), "of": len(rs),
             "tets": tets, "rss_mib": rss / 1024.0, "bpt": rss * 1024.0 / tets if tets else 0,
-            "wall": any(r["note"] == "wall" for r in ok)}
+            "wall": any("wall" in r["note"] for r in ok),
+            "pcpu": any("cpu-process" in r["note"] for r in ok)}
+
+
+def fmt(x, spec="%.3f"):
+    return "-" if x is None or math.isnan(x) else spec % x
+
+
+def ratio(a, b):
+    return None if a is None or b is None or math.isnan(a) or math.isnan(b) or not b else a / b
 
 
 def main():
@@ -52,38 +66,42 @@ def main():
     ap.add_argument("raw")
     ap.add_argument("--runs", type=int, default=0)
     ap.add_argument("--commands", default="")
+    ap.add_argument("--load", default="", help="load averages before / after the run")
     a = ap.parse_args()
     rows, inputs, tools = load(a.raw)
     order = [t for t in TOOL_NAMES if t in tools] + [t for t in tools if t not in TOOL_NAMES]
     print("# gigatet benchmark, %s" % datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"))
     print()
-    print("Machine: %s, %s; %d runs per tool, interleaved round-robin; medians. Seconds are each"
-          " tool's own timing of the meshing (file reading excluded); peak RSS of the whole"
-          " process (input included); bytes/tet = peak RSS / tets." % (
-              platform.machine(), platform.platform(terse=True), a.runs))
+    print("Machine: %s, %s, %s CPUs (shared with other jobs: load average %s); %d runs per tool,"
+          " interleaved round-robin; medians. Seconds are each tool's own timing of the meshing"
+          " (file reading excluded), wall and process CPU (all threads; TetGen reports CPU"
+          " only); peak RSS of the whole process (input included); bytes/tet = peak RSS / tets."
+          % (platform.machine(), platform.platform(terse=True), os.cpu_count(),
+             a.load or "?", a.runs))
     sums = {}
     for inp in inputs:
         print()
         print("## %s" % inp)
         print()
-        print("| tool | median s | min s | vs CGAL seq | tets | peak RSS MiB | bytes/tet | runs |")
-        print("|---|---:|---:|---:|---:|---:|---:|---:|")
-        base = None
+        print("| tool | wall s | CPU s | min wall s | wall vs CGAL seq | CPU vs CGAL seq | tets |"
+              " peak RSS MiB | bytes/tet | runs |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
         s0 = summary(rows.get((inp, "cgal_seq"), []))
-        if s0:
-            base = s0["median"]
+        base = s0["median"] if s0 else None
+        base_cpu = s0["cpu"] if s0 else None
         for t in order:
             s = summary(rows.get((inp, t), []))
             sums[(inp, t)] = s
             if s is None:
                 if rows.get((inp, t)):
-                    print("| %s | failed | | | | | | 0/%d |" % (TOOL_NAMES.get(t, t),
-                                                             len(rows[(inp, t)])))
+                    print("| %s | failed | | | | | | | | 0/%d |" % (TOOL_NAMES.get(t, t),
+                                                                   len(rows[(inp, t)])))
                 continue
-            ratio = "%.2f" % (s["median"] / base) if base else "-"
-            print("| %s | %.3f%s | %.3f | %s | %d | %.0f | %.0f | %d/%d |" % (
-                TOOL_NAMES.get(t, t), s["median"], " (wall)" if s["wall"] else "", s["min"],
-                ratio, s["tets"], s["rss_mib"], s["bpt"], s["n"], s["of"]))
+            print("| %s | %s%s | %s%s | %s | %s | %s | %d | %.0f | %.0f | %d/%d |" % (
+                TOOL_NAMES.get(t, t), fmt(s["median"]), " (process)" if s["wall"] else "",
+                fmt(s["cpu"]), " (process)" if s["pcpu"] else "", fmt(s["min"]),
+                fmt(ratio(s["median"], base), "%.2f"), fmt(ratio(s["cpu"], base_cpu), "%.2f"),
+                s["tets"], s["rss_mib"], s["bpt"], s["n"], s["of"]))
         counts = {sums[(inp, t)]["tets"] for t in order if sums.get((inp, t))}
         if len(counts) > 1:
             print()
@@ -92,15 +110,19 @@ def main():
 
     goals = []
 
-    def med(inp, t):
+    def med(inp, t, key="median"):
         s = sums.get((inp, t))
-        return s["median"] if s else None
+        return s[key] if s and not math.isnan(s[key]) else None
 
     for inp in inputs:
         g1, c = med(inp, "gigatet1"), med(inp, "cgal_seq")
         if inp.startswith("u") and g1 and c:
-            goals.append("gigatet -t 1 / CGAL seq on %s = %.2f (goal <= 0.5 on 1M): %s"
+            goals.append("gigatet -t 1 / CGAL seq on %s = %.2f wall (goal <= 0.5 on 1M): %s"
                          % (inp, g1 / c, "met" if g1 / c <= 0.5 else "NOT met"))
+        g1c, cc = med(inp, "gigatet1", "cpu"), med(inp, "cgal_seq", "cpu")
+        if inp.startswith("u") and g1c and cc:
+            goals.append("gigatet -t 1 / CGAL seq on %s = %.2f CPU (gigatet's CPU includes "
+                         "reading the file unless its stats give it)" % (inp, g1c / cc))
         g2 = med(inp, "gigatet2")
         if inp.startswith("u") and g1 and g2:
             goals.append("speed-up -t 2 over -t 1 on %s = %.2f (goal >= 1.8 on 4M): %s"

@@ -15,8 +15,12 @@
 #   gigatet1 gigatet2   build/gigatet triangulate FILE.bin -t T --stats -q
 # Runs are interleaved: for each repetition, every input, every tool -- so a slow phase of the
 # (shared) machine hits all tools alike.  Seconds are each tool's own timing of the meshing
-# (file reading excluded; gigatet: the stats' total, else wall time, marked); peak RSS is
-# /usr/bin/time's %M for the whole process (input arrays included), bytes/tet = RSS / tets.
+# (file reading excluded), both wall and process CPU time (all threads): on this shared
+# machine the other agents' load inflates wall time, and CPU time is the fairer figure for a
+# one-thread run; TetGen reports only CPU time (clock()).  gigatet: its --stats total (else
+# the process's wall time) and the process's CPU time, marked.  Peak RSS is /usr/bin/time's
+# %M for the whole process (input arrays included), bytes/tet = RSS / tets.  The load average
+# before and after the run goes into the report.
 # Every run is bounded: BENCH_TIMEOUT seconds (default 900) and BENCH_MEM_GB GiB of virtual
 # memory (default 20).  Output: a markdown table on stdout and in bench/results/<date>.md;
 # raw measurements in bench/results/<date>.tsv.
@@ -38,7 +42,7 @@ while (($#)); do
     --tools) tools=$2; shift 2 ;;
     --build) build=$(cd "$2" && pwd); shift 2 ;;
     --out) out=$2; shift 2 ;;
-    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
+    -h|--help) awk 'NR > 1 && /^#/ { print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "bench/run.sh: unknown argument $1" >&2; exit 1 ;;
   esac
 done
@@ -121,30 +125,33 @@ done
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-printf 'tool\tinput\trun\tseconds\ttets\trss_kb\twall\tnote\n' > "$raw"
+printf 'tool\tinput\trun\tseconds\tcpu\ttets\trss_kb\twall\tnote\n' > "$raw"
+load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 for ((r = 1; r <= runs; r++)); do
   for in in $inputs; do
     for t in $active; do
       cmd=$(tool_cmd "$t" "$in")
       set +e
-      ( ulimit -v "$mem_kb"; cd "$tmp" && exec /usr/bin/time -f '%M %e' -o "$tmp/time" \
+      ( ulimit -v "$mem_kb"; cd "$tmp" && exec /usr/bin/time -f '%M %e %U %S' -o "$tmp/time" \
           timeout "$timeout_s" $cmd ) > "$tmp/out" 2> "$tmp/err"
       rc=$?
       set -e
-      read -r rss wall < <(tail -n 1 "$tmp/time")
-      parsed=$(python3 "$here/parse_output.py" "$t" "$tmp/out" "$wall") || parsed=""
+      read -r rss wall ucpu scpu < <(tail -n 1 "$tmp/time")
+      pcpu=$(awk -v u="${ucpu:-0}" -v s="${scpu:-0}" 'BEGIN { print u + s }')
+      parsed=$(python3 "$here/parse_output.py" "$t" "$tmp/out" "$wall" "$pcpu") || parsed=""
       if [ "$rc" -ne 0 ] || [ -z "$parsed" ]; then
         echo "bench: $t on $in (run $r) failed, exit $rc: $(tail -n 3 "$tmp/err" "$tmp/out" | tr '\n' ' ')" >&2
-        printf '%s\t%s\t%d\tnan\t0\t%s\t%s\tfailed rc=%d\n' "$t" "$in" "$r" "${rss:-0}" "${wall:-0}" "$rc" >> "$raw"
+        printf '%s\t%s\t%d\tnan\tnan\t0\t%s\t%s\tfailed rc=%d\n' "$t" "$in" "$r" "${rss:-0}" "${wall:-0}" "$rc" >> "$raw"
         continue
       fi
-      read -r secs tets note <<< "$parsed"
-      printf '%s\t%s\t%d\t%s\t%s\t%s\t%s\t%s\n' "$t" "$in" "$r" "$secs" "$tets" "$rss" "$wall" "${note:-}" >> "$raw"
-      echo "bench: run $r $in $t: ${secs}s ${tets} tets ${rss} KiB" >&2
+      read -r secs cpu tets note <<< "$parsed"
+      printf '%s\t%s\t%d\t%s\t%s\t%s\t%s\t%s\t%s\n' "$t" "$in" "$r" "$secs" "$cpu" "$tets" "$rss" "$wall" "${note:-}" >> "$raw"
+      echo "bench: run $r $in $t: wall ${secs}s cpu ${cpu}s ${tets} tets ${rss} KiB" >&2
     done
   done
 done
 
-python3 "$here/report.py" "$raw" --runs "$runs" --commands "$(for t in $active; do tool_cmd "$t" '<input>'; done)" > "$out"
+load_after=$(cut -d' ' -f1-3 /proc/loadavg)
+python3 "$here/report.py" "$raw" --runs "$runs" --load "$load_before / $load_after" --commands "$(for t in $active; do tool_cmd "$t" '<input>'; done)" > "$out"
 cat "$out"
 echo "bench: wrote $out and $raw" >&2
