@@ -314,6 +314,41 @@ static void test_bbox_expand_contains_the_box_and_moves_the_partitions(void)
     for (int a = 0; a < 6; a++)
         TEST_CHECK(isfinite(out[a]), "huge box: out[%d] = %g is not finite", a, out[a]);
     TEST_CHECK(out[0] == -DBL_MAX && out[3] == DBL_MAX, "huge box not clamped");
+    /* the halves of the curve order (a 2-thread partition) change from pass to pass */
+    enum { N = 2000 };
+    double *pts = malloc(3 * N * sizeof *pts);
+    uint64_t *key = malloc(N * sizeof *key);
+    TEST_REQUIRE(pts && key, "out of memory");
+    tu_rng rng = {16};
+    for (int i = 0; i < 3 * N; i++)
+        pts[i] = tu_uniform(&rng);
+    const double unit[6] = {0, 0, 0, 1, 1, 1};
+    unsigned char half[3][N];
+    for (int pass = 0; pass < 3; pass++) {
+        double eb[6];
+        sort_bbox_expand(unit, 1.5, 99, pass, eb);
+        sort_moore_keys(pts, 3, N, eb, 21, key, 1);
+        uint64_t *sorted = malloc(N * sizeof *sorted);
+        TEST_REQUIRE(sorted, "out of memory");
+        memcpy(sorted, key, N * sizeof *key);
+        for (int i = 1; i < N; i++)  /* insertion sort: the median key */
+            for (int j = i; j > 0 && sorted[j - 1] > sorted[j]; j--) {
+                uint64_t t = sorted[j]; sorted[j] = sorted[j - 1]; sorted[j - 1] = t;
+            }
+        for (int i = 0; i < N; i++)
+            half[pass][i] = key[i] < sorted[N / 2];
+        free(sorted);
+    }
+    for (int a = 0; a < 3; a++)
+        for (int b = a + 1; b < 3; b++) {
+            int moved = 0;
+            for (int i = 0; i < N; i++)
+                moved += half[a][i] != half[b][i];
+            TEST_CHECK(moved > N / 20 && moved < N - N / 20,
+                       "passes %d and %d: only %d of %d points change sides", a, b, moved, N);
+        }
+    free(pts);
+    free(key);
     /* in place */
     double inplace[6];
     memcpy(inplace, box, sizeof inplace);
