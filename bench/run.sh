@@ -95,16 +95,16 @@ have_tool() {
     *) return 1 ;;
   esac
 }
-tool_cmd() {  # tool input -> the command line (bash words)
+tool_cmd() {  # tool input -> sets the array cmd (paths with spaces stay one word)
   local t=$1 in=$2
   case "$t" in
-    cgal_seq) echo "$build/bench/bench_cgal --time $data/$in.bin" ;;
-    cgal_par2) echo "$build/bench/bench_cgal --time --parallel 2 $data/$in.bin" ;;
-    tetgen) echo "tetgen -NEF $data/$in.node" ;;
-    hxt1) echo "$build/bench/hxt_peer -t 1 $data/$in.bin" ;;
-    hxt2) echo "$build/bench/hxt_peer -t 2 $data/$in.bin" ;;
-    gigatet1) echo "$build/gigatet triangulate $data/$in.bin -t 1 --stats -q" ;;
-    gigatet2) echo "$build/gigatet triangulate $data/$in.bin -t 2 --stats -q" ;;
+    cgal_seq) cmd=("$build/bench/bench_cgal" --time "$data/$in.bin") ;;
+    cgal_par2) cmd=("$build/bench/bench_cgal" --time --parallel 2 "$data/$in.bin") ;;
+    tetgen) cmd=(tetgen -NEF "$data/$in.node") ;;
+    hxt1) cmd=("$build/bench/hxt_peer" -t 1 "$data/$in.bin") ;;
+    hxt2) cmd=("$build/bench/hxt_peer" -t 2 "$data/$in.bin") ;;
+    gigatet1) cmd=("$build/gigatet" triangulate "$data/$in.bin" -t 1 --stats -q) ;;
+    gigatet2) cmd=("$build/gigatet" triangulate "$data/$in.bin" -t 2 --stats -q) ;;
   esac
 }
 active=""
@@ -130,10 +130,10 @@ load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 for ((r = 1; r <= runs; r++)); do
   for in in $inputs; do
     for t in $active; do
-      cmd=$(tool_cmd "$t" "$in")
+      tool_cmd "$t" "$in"
       set +e
       ( ulimit -v "$mem_kb"; cd "$tmp" && exec /usr/bin/time -f '%M %e %U %S' -o "$tmp/time" \
-          timeout "$timeout_s" $cmd ) > "$tmp/out" 2> "$tmp/err"
+          timeout "$timeout_s" "${cmd[@]}" ) > "$tmp/out" 2> "$tmp/err"
       rc=$?
       set -e
       read -r rss wall ucpu scpu < <(tail -n 1 "$tmp/time")
@@ -152,6 +152,6 @@ for ((r = 1; r <= runs; r++)); do
 done
 
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
-python3 "$here/report.py" "$raw" --runs "$runs" --load "$load_before / $load_after" --commands "$(for t in $active; do tool_cmd "$t" '<input>'; done)" > "$out"
+python3 "$here/report.py" "$raw" --runs "$runs" --load "$load_before / $load_after" --commands "$(for t in $active; do tool_cmd "$t" '<input>'; echo "${cmd[*]}"; done)" > "$out"
 cat "$out"
 echo "bench: wrote $out and $raw" >&2
