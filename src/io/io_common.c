@@ -330,6 +330,7 @@ io_status io_out_open(io_out *o, const char *path, io_error *err)
             return io_fail(err, IO_ERR_WRITE, "%s: cannot open the output file: %s", path,
                            strerror(e));
         }
+        setvbuf(o->f, NULL, _IOFBF, (size_t)1 << 20); /* large writes: meshes run to GBs */
         return IO_OK;
     }
     free(o->tmp);

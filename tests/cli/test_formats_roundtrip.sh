@@ -9,7 +9,7 @@
 cd "$W"
 
 for f in xyz node ply bin; do
-    expect 0 "" -- "$G" generate ball 300 --seed 5 -o "in.$f" -q
+    expect 0 "" -- "$G" generate ball 200 --seed 5 -o "in.$f" -q
     [ -s "$T/out" ] && fail "generate -q printed '$(cat "$T/out")'"
 done
 # a hand-written ascii PLY with float/double coordinates among other properties, and a
@@ -24,7 +24,7 @@ for f in xyz node ply bin; do
     for o in ele msh vtu; do
         expect 0 "" -- "$G" triangulate "in.$f" -o "out_$f.$o"
         grep -qE "$summary_re" "$T/out" || fail "summary line: '$(cat "$T/out")'"
-        grep -q '^points=300 duplicates=0 ' "$T/out" || fail "counts: '$(cat "$T/out")'"
+        grep -q '^points=200 duplicates=0 ' "$T/out" || fail "counts: '$(cat "$T/out")'"
         [ -s "$T/err" ] && fail "stderr not empty without a terminal: '$(cat "$T/err")'"
     done
     expect 0 "" -- "$G" check "out_$f.ele" --points "in.$f"
@@ -71,7 +71,7 @@ need = ["points", "vertices", "duplicates", "tets", "threads", "seconds", "bytes
         "kernel_peak_bytes", "max_rss_bytes", "predicates", "rounds", "num_rounds", "tets_per_second"]
 missing = [k for k in need if k not in s]
 assert not missing, "missing keys %s" % missing
-assert s["points"] == 300 and s["duplicates"] == 0 and s["tets"] > 0, s
+assert s["points"] == 200 and s["duplicates"] == 0 and s["tets"] > 0, s
 assert s["max_rss_bytes"] > 0
 for k in ["read", "validate", "sort", "insert", "finalize", "kernel", "write", "wall"]:
     assert k in s["seconds"], k
