@@ -248,7 +248,9 @@ static double rnd_coord(tu_rng *r, int family)
     case 2: return ldexp(u, 1000);                             /* huge */
     case 3: return ldexp(u, -1060);                            /* (partly) denormal */
     case 4: return tu_below(r, 2) ? ldexp(u, 900) : ldexp(u, -1000);  /* mixed */
-    default: return 1.0 + ldexp((double)tu_below(r, 4), -52);  /* 1-ulp neighbours of 1 */
+    case 5: return 1.0 + ldexp((double)tu_below(r, 4), -52);  /* 1-ulp neighbours of 1 */
+    case 6: return (double)(int64_t)(tu_next(r) >> 33) - 0x1p30;  /* 31-bit integers */
+    default: return 0x1p22 - (double)tu_below(r, 3);          /* at the small-path bound */
     }
 }
 
@@ -257,7 +259,7 @@ static void test_predicates_equal_naive_mpq_reference_on_adversarial_families(vo
     tu_rng r = {12345};
     int zeros = 0;
     for (int it = 0; it < 1800; it++) {
-        int fam = it % 6;
+        int fam = it % 8;
         double p[5][3];
         for (int i = 0; i < 5; i++)
             for (int j = 0; j < 3; j++) p[i][j] = rnd_coord(&r, fam);

@@ -19,7 +19,10 @@
  *      Rambau & Santos, Triangulations, ch. 2) the mesh is THE perturbed Delaunay
  *      tetrahedrization of the vertices, the unique one CGAL also builds.
  * The volume comparison and the optional full empty-sphere test are redundant cross-checks.
- * No printing; the first violation is written into the report as one sentence.
+ * Every sign is exact: the GMP oracle's, first tried in interval arithmetic (check_filter.c,
+ * which only returns signs it proves; GTET_CHECK_NO_FILTER skips it).  Linear in the mesh size
+ * apart from sorting small per-vertex buckets.  No printing; the first violation is written
+ * into the report as one sentence, the same for any thread count.
  */
 #include <math.h>
 #include <stdarg.h>

@@ -7,8 +7,9 @@
  * and succ(f) (t is nearer to f than to either neighbour), subnormal results included; for an
  * overflow f = +-inf the bound on the infinite side is inf and the other one is +-DBL_MAX,
  * still valid.  An interval operation applies the operation to the bounds (for a product: all
- * four bound products, min and max) and widens each bound outward, so the exact value of every
- * subexpression stays inside its interval.  Invalid operations (inf - inf, 0 * inf) give NaN,
+ * four bound products, min and max) and widens each bound outward (except where the result is
+ * exactly 0, see down() and iv_mul()), so the exact value of every subexpression stays inside
+ * its interval.  Invalid operations (inf - inf, 0 * inf) give NaN,
  * which decides nothing: a sign is returned only when lo > 0 or hi < 0.  The polynomials are
  * the oracle's, term for term, so a decided sign is the oracle's sign; an undecided one (zero,
  * or too close to call) is the oracle's answer itself.  The perturbed predicates equal the plain
@@ -49,20 +50,30 @@ static double succ(double x) { return -pred(-x); }
 
 static iv iv_pt(double x) { return (iv){x, x}; }
 
-static iv iv_add(iv a, iv b) { return (iv){pred(a.lo + b.lo), succ(a.hi + b.hi)}; }
+/* A sum or difference of two doubles that rounds to 0 is exactly 0 (the exact result is a
+ * multiple of 2^-1074, and every such multiple below 2^-1022 is a double), so a 0 bound is kept
+ * as is: no subnormal bounds (slow on x86) for the exact zeros of grid inputs. */
+static double down(double f) { return f == 0.0 ? 0.0 : pred(f); }
+static double up(double f) { return f == 0.0 ? 0.0 : succ(f); }
 
-static iv iv_sub(iv a, iv b) { return (iv){pred(a.lo - b.hi), succ(a.hi - b.lo)}; }
+static iv iv_add(iv a, iv b) { return (iv){down(a.lo + b.lo), up(a.hi + b.hi)}; }
 
+static iv iv_sub(iv a, iv b) { return (iv){down(a.lo - b.hi), up(a.hi - b.lo)}; }
+
+/* The four bound products, each widened unless a factor is 0 (then it is exactly 0). */
 static iv iv_mul(iv a, iv b)
 {
-    double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
-    double mn = p[0], mx = p[0];
+    const double x[4] = {a.lo, a.lo, a.hi, a.hi}, y[4] = {b.lo, b.hi, b.lo, b.hi};
+    double lo = INFINITY, hi = -INFINITY;
     for (int i = 0; i < 4; i++) {
-        if (isnan(p[i])) return (iv){NAN, NAN};
-        if (p[i] < mn) mn = p[i];
-        if (p[i] > mx) mx = p[i];
+        double p = x[i] * y[i];
+        if (isnan(p)) return (iv){NAN, NAN};
+        int exact = x[i] == 0.0 || y[i] == 0.0;
+        double pl = exact ? 0.0 : pred(p), ph = exact ? 0.0 : succ(p);
+        if (pl < lo) lo = pl;
+        if (ph > hi) hi = ph;
     }
-    return (iv){pred(mn), succ(mx)};
+    return (iv){lo, hi};
 }
 
 /* +1 / -1 when the interval proves the sign, 0 when it does not (zero inside, or NaN). */

@@ -18,6 +18,9 @@
  *       (0, e_x, e_y, e_z) and e = 0.25*(1,1,1), inside, that determinant is negative
  *       (tests/test_oracle_predicates.c checks this and the sign flips).
  *
+ * Points whose scaled coordinates are below 2^22 take an equivalent 128-bit integer path
+ * (oracle_small.c); the rest is mpz.
+ *
  * Symbolic perturbation: transcribed from the specification in CGAL's
  * Delaunay_triangulation_3.h (side_of_oriented_sphere, coplanar_side_of_bounded_circle and
  * side_of_sphere with an infinite vertex) and kernel_ftC3.h (coplanar_orientationC3,
@@ -26,6 +29,7 @@
  * src/pred/.  Simple, slow on purpose; no global state, reentrant.
  */
 #include "oracle.h"
+#include "oracle_small.h"
 
 #include <gmp.h>
 #include <limits.h>
@@ -35,7 +39,7 @@
 typedef struct zpt { mpz_t c[3]; } zpt;
 
 /* x = m * 2^e with m odd, |m| < 2^53; for x == 0: m = 0. */
-static void split_double(double x, double *m, int *e)
+void orc_split_double(double x, double *m, int *e)
 {
     if (x == 0.0) {
         *m = 0.0;
@@ -65,7 +69,7 @@ static void load(zpt *z, const double *const *p, int k)
     int emin = INT_MAX;
     for (int i = 0; i < k; i++)
         for (int j = 0; j < 3; j++) {
-            split_double(p[i][j], &m[i][j], &e[i][j]);
+            orc_split_double(p[i][j], &m[i][j], &e[i][j]);
             if (m[i][j] != 0.0 && e[i][j] < emin) emin = e[i][j];
         }
     for (int i = 0; i < k; i++)
@@ -273,6 +277,8 @@ static void lex_order(const double *const *pts, int k, int *order)
 int orc_orient3d(const double *a, const double *b, const double *c, const double *d)
 {
     const double *p[4] = {a, b, c, d};
+    orc_small sm;
+    if (orc_small_load(&sm, p, 4)) return orc_small_orient3d(sm.c[0], sm.c[1], sm.c[2], sm.c[3]);
     zpt z[4];
     load(z, p, 4);
     int s = z_orient3d(&z[0], &z[1], &z[2], &z[3]);
@@ -284,6 +290,9 @@ int orc_insphere(const double *a, const double *b, const double *c, const double
                  const double *e)
 {
     const double *p[5] = {a, b, c, d, e};
+    orc_small sm;
+    if (orc_small_load(&sm, p, 5))
+        return orc_small_insphere(sm.c[0], sm.c[1], sm.c[2], sm.c[3], sm.c[4]);
     zpt z[5];
     load(z, p, 5);
     int s = z_insphere(&z[0], &z[1], &z[2], &z[3], &z[4]);
@@ -311,54 +320,69 @@ int orc_coplanar_orientation(const double *a, const double *b, const double *c)
     return s;
 }
 
-/* CGAL's side_of_oriented_sphere(p0,p1,p2,p3,p, perturb=true) for a POSITIVELY oriented
- * (p0,p1,p2,p3) whose exact insphere is 0.  z[0..3] = p0..p3, z[4] = p; pts the doubles (for
- * the ranking).  Sort the five by lexicographic rank; for the highest, then the second highest
- * point: if it is p, the answer is -1 (p0..p3 positive); if it is p_i, the answer is the
- * orientation of (p0,p1,p2,p3) with p_i replaced by p, when that is nonzero.  Two ranks always
- * decide for distinct points (Devillers & Teillaud 2011); CGAL returns -1 if not, so do we. */
-static int sos_insphere_positive(const zpt *z, const double *const *pts)
+/* Five loaded points, on the small-integer path or as mpz. */
+typedef struct pset {
+    const orc_small *sm;  /* NULL: use z */
+    const zpt *z;
+} pset;
+
+static int pset_orient3d(const pset *s, const int q[4])
 {
+    if (s->sm)
+        return orc_small_orient3d(s->sm->c[q[0]], s->sm->c[q[1]], s->sm->c[q[2]], s->sm->c[q[3]]);
+    return z_orient3d(&s->z[q[0]], &s->z[q[1]], &s->z[q[2]], &s->z[q[3]]);
+}
+
+/* CGAL's side_of_oriented_sphere(p0,p1,p2,p3,p, perturb=true) for a POSITIVELY oriented
+ * (p0,p1,p2,p3) whose exact insphere is 0.  role[i] is the index of p_i among the five loaded
+ * points, p is index 4; pts the doubles (for the ranking).  Sort the five by lexicographic
+ * rank; for the highest, then the second highest point: if it is p, the answer is -1 (p0..p3
+ * positive); if it is p_i, the answer is the orientation of (p0,p1,p2,p3) with p_i replaced by
+ * p, when that is nonzero.  Two ranks always decide for distinct points (Devillers & Teillaud
+ * 2011); CGAL returns -1 if not, so do we. */
+static int sos_insphere_positive(const pset *s, const int role[4], const double *const *pts)
+{
+    const double *rp[5] = {pts[role[0]], pts[role[1]], pts[role[2]], pts[role[3]], pts[4]};
     int order[5];
-    lex_order(pts, 5, order);
+    lex_order(rp, 5, order);
     for (int i = 4; i > 2; i--) {
         int w = order[i];
         if (w == 4) return -1;
-        const zpt *q[4] = {&z[0], &z[1], &z[2], &z[3]};
-        q[w] = &z[4];                             /* p replaces p_w in its slot */
-        int o = z_orient3d(q[0], q[1], q[2], q[3]);
+        int q[4] = {role[0], role[1], role[2], role[3]};
+        q[w] = 4;                                 /* p replaces p_w in its slot */
+        int o = pset_orient3d(s, q);
         if (o != 0) return o;
     }
     return -1;
+}
+
+/* The sign flips with the orientation: a negative (a,b,c,d) is evaluated as the positive
+ * (b,a,c,d) and negated. */
+static int insphere_sos_set(const pset *s, int exact, const double *const *pts)
+{
+    static const int pos[4] = {0, 1, 2, 3}, neg[4] = {1, 0, 2, 3};
+    if (exact != 0) return exact;
+    int o = pset_orient3d(s, pos);
+    if (o > 0) return sos_insphere_positive(s, pos, pts);
+    if (o < 0) return -sos_insphere_positive(s, neg, pts);
+    return 0;  /* precondition violated: the exact 0 is the honest answer */
 }
 
 int orc_insphere_sos(const double *a, const double *b, const double *c, const double *d,
                      const double *e)
 {
     const double *p[5] = {a, b, c, d, e};
+    orc_small sm;
+    if (orc_small_load(&sm, p, 5)) {
+        pset s = {&sm, NULL};
+        return insphere_sos_set(&s, orc_small_insphere(sm.c[0], sm.c[1], sm.c[2], sm.c[3], sm.c[4]), p);
+    }
     zpt z[5];
     load(z, p, 5);
-    int s = z_insphere(&z[0], &z[1], &z[2], &z[3], &z[4]);
-    if (s == 0) {
-        int o = z_orient3d(&z[0], &z[1], &z[2], &z[3]);
-        if (o > 0) {
-            s = sos_insphere_positive(z, p);
-        } else if (o < 0) {
-            /* The sign flips with the orientation: evaluate on (b,a,c,d), which is positive,
-             * and negate. */
-            zpt sw[5];
-            const double *ps[5] = {b, a, c, d, e};
-            sw[0] = z[1];                         /* shallow struct copies: read only */
-            sw[1] = z[0];
-            sw[2] = z[2];
-            sw[3] = z[3];
-            sw[4] = z[4];
-            s = -sos_insphere_positive(sw, ps);
-        }
-        /* o == 0: precondition violated; the exact 0 is the honest answer. */
-    }
+    pset s = {NULL, z};
+    int r = insphere_sos_set(&s, z_insphere(&z[0], &z[1], &z[2], &z[3], &z[4]), p);
     unload(z, 5);
-    return s;
+    return r;
 }
 
 /* CGAL's coplanar_side_of_bounded_circle(p0,p1,p2,p, perturb=true), with p coplanar with the
@@ -440,7 +464,7 @@ static void scaled(mpz_t r, double x, int emin)
 {
     double m;
     int e;
-    split_double(x, &m, &e);
+    orc_split_double(x, &m, &e);
     mpz_set_d(r, m);
     if (m != 0.0) mpz_mul_2exp(r, r, (mp_bitcnt_t)(e - emin));
 }
@@ -456,7 +480,7 @@ int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, 
     for (size_t i = 0; i < 3 * nv; i++) {
         double m;
         int e;
-        split_double(vertices[i], &m, &e);
+        orc_split_double(vertices[i], &m, &e);
         if (m != 0.0 && e < emin) emin = e;
     }
     if (emin == INT_MAX) emin = 0;

@@ -1,7 +1,8 @@
 /* oracle.h -- the independent exact GMP oracle (prefix orc_).
  *
- * Plain exact integer arithmetic (mpz) on the doubles as given, scaled by one common power of
- * two per call: every double is a dyadic rational, so these are the true signs.  It shares no
+ * Plain exact integer arithmetic (mpz, or __int128 when the scaled coordinates are below 2^22)
+ * on the doubles as given, scaled by one common power of two per call: every double is a
+ * dyadic rational, so these are the true signs.  It shares no
  * code with src/pred/ (not even the perturbation rule, which is written again here from its
  * specification), so tests and the checker compare two independent implementations.  Slow on
  * purpose-simple code, not fast code.  Conventions: those of gigatet.h (see oracle.c).
