@@ -3,7 +3,8 @@
  * Live finite tets are renumbered in slot order and moved down in place (a tet only ever moves
  * to a lower slot, which has already been read), their neighbour handles 4u+j become tet ids
  * (GTET_NO_TET across a hull facet, i.e. towards a ghost), and the arrays are shrunk.  The
- * peak is the working mesh plus one uint32 per slot for the renumbering.
+ * peak is the working mesh plus one uint32 per slot for the renumbering.  The dead bit lives
+ * in tv[4t] and is never set on a live tet, so live vertex ids are copied as they are.
  */
 #include "finalize.h"
 
@@ -16,7 +17,7 @@ gtet_status km_finalize(kmesh *m, uint32_t **tets, uint32_t **nbrs, size_t *ntet
     uint32_t *newidx = malloc((nt ? nt : 1) * sizeof *newidx);
     if (!newidx) return GTET_ERR_OUT_OF_MEMORY;
     for (size_t t = 0; t < nt; t++) {
-        if (m->tf[t] & KM_DELETED) {
+        if (km_dead(m, t)) {
             newidx[t] = GTET_NO_TET;
         } else if (m->tv[4 * t + 3] == KM_GHOST) {
             newidx[t] = GTET_NO_TET;
@@ -42,8 +43,6 @@ gtet_status km_finalize(kmesh *m, uint32_t **tets, uint32_t **nbrs, size_t *ntet
         uint32_t *b = realloc(tn, 4 * live * sizeof *b);
         if (b) tn = b;
     }
-    free(m->tf);
-    m->tf = NULL;
     m->tv = NULL;
     m->tn = NULL;
     m->cap = m->nt = 0;

@@ -42,9 +42,6 @@ gtet_status km_reserve(kmesh *m, size_t slots)
     uint32_t *tn = realloc(m->tn, 4 * cap * sizeof *tn);
     if (!tn) return GTET_ERR_OUT_OF_MEMORY;
     m->tn = tn;
-    uint8_t *tf = realloc(m->tf, cap);
-    if (!tf) return GTET_ERR_OUT_OF_MEMORY;
-    m->tf = tf;
     m->cap = cap;
     return GTET_OK;
 }
@@ -64,7 +61,6 @@ void km_free(kmesh *m)
 {
     free(m->tv);
     free(m->tn);
-    free(m->tf);
     free(m->vloc);
     memset(m, 0, sizeof *m);
 }
@@ -115,8 +111,15 @@ static inline int conflicts(kctx *c, uint32_t t, const double *p)
     if (v[3] == KM_GHOST)
         return pred_ghost_conflict(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
                                    &c->cnt) > 0;
-    return pred_insphere_sos(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), km_pt(m, v[3]), p,
-                             &c->cnt) > 0;
+    const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
+    const double *d = km_pt(m, v[3]);
+    /* the filter inline (most calls stop here); the full chain counts its own call */
+    int s = pred_insphere_filter(a, b, cc, d, p);
+    if (s != 0) {
+        c->cnt.insphere_calls++;
+        return s > 0;
+    }
+    return pred_insphere_sos(a, b, cc, d, p, &c->cnt) > 0;
 }
 
 /* orient3d of tet t with its vertex f replaced by p (t finite). */
@@ -127,7 +130,9 @@ static inline int orient_replaced(kctx *c, uint32_t t, int f, const double *p)
     const double *q[4];
     for (int i = 0; i < 4; i++) q[i] = km_pt(m, v[i]);
     q[f] = p;
-    return pred_orient3d(q[0], q[1], q[2], q[3], &c->cnt);
+    c->cnt.orient_calls++;
+    int s = pred_orient3d_filter(q[0], q[1], q[2], q[3]);
+    return s ? s : pred_orient3d_exact(q[0], q[1], q[2], q[3], &c->cnt);
 }
 
 /* Linear scan for a live tet in conflict with p: the walk's guaranteed fallback. */
@@ -136,7 +141,7 @@ static gtet_status scan_for_conflict(kctx *c, const double *p, uint32_t *found)
     const kmesh *m = c->m;
     c->walk_fallbacks++;
     for (size_t t = 0; t < m->nt; t++) {
-        if (m->tf[t] & KM_DELETED) continue;
+        if (km_dead(m, t)) continue;
         if (conflicts(c, (uint32_t)t, p)) {
             *found = (uint32_t)t;
             return GTET_OK;
@@ -204,7 +209,7 @@ gtet_status km_flush_block(kctx *c)
     if (left && grow((void **)&c->freelist, &c->free_cap, c->nfree + left, sizeof *c->freelist))
         return GTET_ERR_OUT_OF_MEMORY;
     for (size_t s = c->blk_next; s < c->blk_end; s++) {
-        c->m->tf[s] = KM_DELETED;
+        c->m->tv[4 * s] = KM_DEAD;
         c->freelist[c->nfree++] = (uint32_t)s;
     }
     c->blk_next = c->blk_end = 0;
@@ -352,7 +357,7 @@ static gtet_status adjacency_hash(kctx *c, const uint32_t *slots, size_t nb)
 /* Undo the DELETED marks of an abandoned cavity: nothing else was written. */
 static void rollback(kctx *c, size_t ncav)
 {
-    for (size_t i = 0; i < ncav; i++) c->m->tf[c->cav[i]] &= (uint8_t)~KM_DELETED;
+    for (size_t i = 0; i < ncav; i++) km_revive(c->m, c->cav[i]);
     c->conflicts++;
 }
 
@@ -380,13 +385,13 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     size_t ncav = 0, nb = 0;
     if (grow((void **)&c->cav, &c->cav_cap, 64, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
     c->cav[ncav++] = t0;
-    m->tf[t0] |= KM_DELETED;
+    km_kill(m, t0);
     for (size_t i = 0; i < ncav; i++) {
         uint32_t t = c->cav[i];
         for (uint32_t f = 0; f < 4; f++) {
             uint32_t h = m->tn[4 * (size_t)t + f];
             uint32_t u = h >> 2;
-            if (m->tf[u] & KM_DELETED) continue;
+            if (km_dead(m, u)) continue;
             if (conflicts(c, u, p)) {
                 if (c->colour && !km_owned(c, u)) {
                     rollback(c, ncav);
@@ -397,7 +402,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
                     rollback(c, ncav);
                     return GTET_ERR_OUT_OF_MEMORY;
                 }
-                m->tf[u] |= KM_DELETED;
+                km_kill(m, u);
                 c->cav[ncav++] = u;
             } else {
                 if (grow((void **)&c->bnd, &c->bnd_cap, nb + 1, sizeof *c->bnd)) {
@@ -406,6 +411,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
                 }
                 kbound *b = &c->bnd[nb++];
                 memcpy(b->v, m->tv + 4 * (size_t)t, sizeof b->v);
+                b->v[0] &= ~KM_DEAD;  /* t is already marked */
                 b->v[f] = pid;
                 b->outer = h;
                 b->f = f;
@@ -454,7 +460,6 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
         const kbound *b = &c->bnd[i];
         uint32_t n = slots[i];
         memcpy(m->tv + 4 * (size_t)n, b->v, sizeof b->v);
-        m->tf[n] = 0;
         m->tn[4 * (size_t)n + b->f] = b->outer;
         m->tn[b->outer] = 4 * n + b->f;
     }
@@ -491,7 +496,6 @@ gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t 
     const uint32_t v[4] = {a, b, cc, d};
     m->nt = 5;
     memcpy(m->tv, v, sizeof v);
-    m->tf[0] = 0;
     /* ghost g = 1+k across facet k: the facet's vertices in increasing slot order x<y<z,
      * orient3d(x,y,z,v_k) has the sign (-1)^(3-k); it must be negative, so swap y and z when
      * 3-k is even. */
@@ -510,7 +514,6 @@ gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t 
         gv[1] = w[1];
         gv[2] = w[2];
         gv[3] = KM_GHOST;
-        m->tf[g] = 0;
         m->tn[4 * g + 3] = (uint32_t)k;     /* tet 0, facet k */
         m->tn[k] = 4 * g + 3;
     }

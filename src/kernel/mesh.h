@@ -4,7 +4,9 @@
  *   tv[4t+i]  vertex i of tet t (uint32); KM_GHOST is the vertex at infinity, always in slot 3;
  *   tn[4t+i]  4*u+j: the tet u across the facet opposite vertex i, and the index j of that
  *             facet in u, so the back link is tn[4u+j] == 4t+i;
- *   tf[t]     flag byte (KM_DELETED).
+ *   the top bit of tv[4t] (KM_DEAD) marks a deleted tet (slot 0 is never the ghost, and
+ *             vertex ids stay below 2^31), so a neighbour's liveness is read from the
+ *             same cache line as its vertices.
  * Finite tets are positively oriented (orient3d > 0).  A ghost tet (a,b,c,G) has its finite
  * facet ordered so that orient3d(a,b,c,x) < 0 for the points x of the hull: the vertex at
  * infinity is on the positive side, and every ghost is "positively oriented" too, which is
@@ -23,7 +25,8 @@
 #include "../pred/pred.h"
 
 #define KM_GHOST UINT32_MAX
-#define KM_DELETED 1u
+#define KM_DEAD 0x80000000u
+#define KM_MAX_VERTICES (KM_DEAD - 1)
 #define KM_MAX_SLOTS (UINT32_C(1) << 30)
 #define KM_LOC_MAX 64   /* cavity-local vertex ids for the fast adjacency table */
 #define KM_SLOT_BLOCK 4096 /* fresh slots a thread claims at once in a parallel pass */
@@ -33,7 +36,6 @@ typedef struct kmesh {
     size_t nv;
     uint32_t *tv;
     uint32_t *tn;
-    uint8_t *tf;
     size_t nt;          /* slots in use (live and deleted) */
     size_t cap;         /* slots allocated */
     uint8_t *vloc;      /* cavity-local id of each vertex (scratch, nv bytes) */
@@ -73,6 +75,9 @@ typedef struct kctx {
 } kctx;
 
 static inline int km_is_ghost(const kmesh *m, uint32_t t) { return m->tv[4 * (size_t)t + 3] == KM_GHOST; }
+static inline int km_dead(const kmesh *m, size_t t) { return (m->tv[4 * t] & KM_DEAD) != 0; }
+static inline void km_kill(kmesh *m, size_t t) { m->tv[4 * t] |= KM_DEAD; }
+static inline void km_revive(kmesh *m, size_t t) { m->tv[4 * t] &= ~KM_DEAD; }
 static inline const double *km_pt(const kmesh *m, uint32_t v) { return m->v + 3 * (size_t)v; }
 
 gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint);

@@ -94,9 +94,9 @@ void kpar_free(kpar *P)
 static void serial_start(kctx *c)
 {
     const kmesh *m = c->m;
-    if (c->last < m->nt && !(m->tf[c->last] & KM_DELETED)) return;
+    if (c->last < m->nt && !km_dead(m, c->last)) return;
     for (size_t t = 0; t < m->nt; t++)
-        if (!(m->tf[t] & KM_DELETED)) {
+        if (!km_dead(m, t)) {
             c->last = (uint32_t)t;
             return;
         }
@@ -125,11 +125,11 @@ static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np)
 static int find_start(kctx *c, int nthreads)
 {
     const kmesh *m = c->m;
-    if (c->last < m->nt && !(m->tf[c->last] & KM_DELETED) && km_owned(c, c->last)) return 1;
+    if (c->last < m->nt && !km_dead(m, c->last) && km_owned(c, c->last)) return 1;
     size_t nt = m->nt, from = nt / (size_t)nthreads * c->mine;
     for (size_t k = 0; k < nt; k++) {
         size_t t = (from + k) % nt;
-        if (!(m->tf[t] & KM_DELETED) && km_owned(c, (uint32_t)t)) {
+        if (!km_dead(m, t) && km_owned(c, (uint32_t)t)) {
             c->last = (uint32_t)t;
             return 1;
         }

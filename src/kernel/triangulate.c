@@ -56,9 +56,9 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     if (!xyz && n) return fail(err, GTET_ERR_ARGUMENT, "gtet_triangulate: points are NULL");
     if (opts.threads < 0)
         return fail(err, GTET_ERR_ARGUMENT, "gtet_triangulate: negative thread count");
-    if (n >= UINT32_MAX) {
+    if (n >= KM_MAX_VERTICES) {
         kval_error(err, GTET_ERR_TOO_LARGE, SIZE_MAX, -1,
-                   "%zu points exceed the 32-bit vertex index limit", n);
+                   "%zu points exceed the 2^31-1 vertex limit", n);
         return GTET_ERR_TOO_LARGE;
     }
     double t_start = omp_get_wtime();
@@ -115,8 +115,21 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
         }
         hint = KM_MAX_SLOTS;
     }
+    /* The kernel works on a copy of the vertices in insertion order (internal id i is output
+     * vertex order[i]): consecutive insertions then touch neighbouring memory, as HXT gets by
+     * sorting its vertex records.  Output ids are restored after the compaction. */
+    double *sv = malloc((nv ? 3 * nv : 3) * sizeof *sv);
+    uint32_t *ids = malloc((nv ? nv : 1) * sizeof *ids);
+    if (!sv || !ids) {
+        free(sv);
+        free(ids);
+        free(order);
+        gtet_mesh_free(&res);
+        return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the sorted vertices");
+    }
+    for (size_t i = 0; i < nv; i++) memcpy(sv + 3 * i, res->vertices + 3 * (size_t)order[i], 3 * sizeof *sv);
     kmesh m;
-    s = km_init(&m, res->vertices, nv, hint);
+    s = km_init(&m, sv, nv, hint);
     if (threads > 255) threads = 255;
     kctx *ctx = calloc((size_t)threads, sizeof *ctx);
     kpar P;
@@ -125,13 +138,14 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     for (int k = 0; ctx && k < threads; k++) kctx_init(&ctx[k], &m, (uint64_t)k + 1);
     if (s == GTET_OK) s = kpar_init(&P, &m, ctx, threads);
     if (s == GTET_OK)
-        s = km_first_tet(&ctx[0], order[pos[0]], order[pos[1]], order[pos[2]], order[pos[3]]);
+        s = km_first_tet(&ctx[0], (uint32_t)pos[0], (uint32_t)pos[1], (uint32_t)pos[2],
+                         (uint32_t)pos[3]);
     /* the rounds, without the four vertices of the first tet */
     size_t w = 0, r = 0;
     for (size_t i = 0; i < nv; i++) {
         while (r < (size_t)nrounds && i == round_end[r]) round_end[r++] = w;
         if (i == pos[0] || i == pos[1] || i == pos[2] || i == pos[3]) continue;
-        order[w++] = order[i];
+        ids[w++] = (uint32_t)i;
     }
     while (r < (size_t)nrounds) round_end[r++] = w;
     res->rounds = calloc((size_t)(nrounds > 0 ? nrounds : 1), sizeof *res->rounds);
@@ -142,13 +156,17 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     P.done = 4;
     for (int k = 0; k < nrounds && s == GTET_OK; k++) {
         size_t b = k ? round_end[k - 1] : 0;
-        s = kpar_round(&P, order + b, round_end[k] - b, &res->rounds[k]);
+        s = kpar_round(&P, ids + b, round_end[k] - b, &res->rounds[k]);
     }
-    free(order);
+    free(ids);
     if (opts.progress && s == GTET_OK) opts.progress(opts.progress_user, 1.0);
     double t_inserted = omp_get_wtime();
     size_t slots_peak = m.cap;
     if (s == GTET_OK) s = km_finalize(&m, &res->tets, &res->neighbors, &res->n_tets, &res->n_hull_facets);
+    if (s == GTET_OK)
+        for (size_t i = 0; i < 4 * res->n_tets; i++) res->tets[i] = order[res->tets[i]];
+    free(order);
+    free(sv);
     add_counters(&res->stats.pred, &cnt0);
     res->stats.tets_created = 5;
     for (int k = 0; ctx && k < threads; k++) {
@@ -173,10 +191,10 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     st->seconds_total = t_done - t_start;
     st->threads = threads;
     st->num_rounds = nrounds;
-    /* working mesh: 16 B vertex ids + 16 B neighbours + 1 flag byte per slot, plus the
-     * vertices (24 B each) and their 1-byte cavity-local ids */
-    st->peak_bytes = slots_peak * 33 + nv * 25 + n * 4;
-    st->bytes_per_tet = res->n_tets ? (slots_peak * 33 + nv * 25) / res->n_tets : 0;
+    /* working mesh: 16 B vertex ids + 16 B neighbours per slot, plus the
+     * vertices (24 B each) and their 1-byte cavity-local ids; the dead flag is a bit of tv */
+    st->peak_bytes = slots_peak * 32 + nv * 25 + n * 4;
+    st->bytes_per_tet = res->n_tets ? (slots_peak * 32 + nv * 25) / res->n_tets : 0;
     if (opts.check) {
         gtet_check_report rep;
         s = gtet_check(res, xyz, n, 0, &rep);
