@@ -68,13 +68,15 @@ static void print_stats(const char *input, const gtet_mesh *mesh, double t_read,
            st.bytes_per_tet, st.peak_bytes, cli_max_rss_bytes());
     printf(",\"tets_created\":%llu,\"walk_steps\":%llu", (unsigned long long)st.tets_created,
            (unsigned long long)st.walk_steps);
-    printf(",\"predicates\":{\"orient_calls\":%llu,\"orient_exact\":%llu,\"orient_gmp\":%llu,"
-           "\"orient_zero\":%llu,\"insphere_calls\":%llu,\"insphere_exact\":%llu,"
-           "\"insphere_gmp\":%llu,\"insphere_zero\":%llu,\"sos_calls\":%llu,"
+    printf(",\"predicates\":{\"orient_calls\":%llu,\"orient_exact\":%llu,\"orient_int\":%llu,"
+           "\"orient_gmp\":%llu,\"orient_zero\":%llu,\"insphere_calls\":%llu,"
+           "\"insphere_exact\":%llu,\"insphere_int\":%llu,\"insphere_gmp\":%llu,"
+           "\"insphere_zero\":%llu,\"sos_calls\":%llu,"
            "\"sos_depth\":[%llu,%llu,%llu,%llu]}",
            (unsigned long long)p->orient_calls, (unsigned long long)p->orient_exact,
-           (unsigned long long)p->orient_gmp, (unsigned long long)p->orient_zero,
-           (unsigned long long)p->insphere_calls, (unsigned long long)p->insphere_exact,
+           (unsigned long long)p->orient_int, (unsigned long long)p->orient_gmp,
+           (unsigned long long)p->orient_zero, (unsigned long long)p->insphere_calls,
+           (unsigned long long)p->insphere_exact, (unsigned long long)p->insphere_int,
            (unsigned long long)p->insphere_gmp, (unsigned long long)p->insphere_zero,
            (unsigned long long)p->sos_calls, (unsigned long long)p->sos_depth[0],
            (unsigned long long)p->sos_depth[1], (unsigned long long)p->sos_depth[2],

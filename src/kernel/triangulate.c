@@ -23,10 +23,12 @@ static void add_counters(gtet_pred_counters *s, const gtet_pred_counters *a)
 {
     s->orient_calls += a->orient_calls;
     s->orient_exact += a->orient_exact;
+    s->orient_int += a->orient_int;
     s->orient_gmp += a->orient_gmp;
     s->orient_zero += a->orient_zero;
     s->insphere_calls += a->insphere_calls;
     s->insphere_exact += a->insphere_exact;
+    s->insphere_int += a->insphere_int;
     s->insphere_gmp += a->insphere_gmp;
     s->insphere_zero += a->insphere_zero;
     s->sos_calls += a->sos_calls;
