@@ -88,7 +88,8 @@
 #define PRED_IS_LO 0x1p-192
 #define PRED_IS_HI 0x1p+200
 
-static inline double pred_fabs_(double x) { return x < 0 ? -x : x; }
+/* fabs clears the sign bit: one AND (x < 0 ? -x : x would keep -0.0 and cost a blend). */
+static inline double pred_fabs_(double x) { return __builtin_fabs(x); }
 static inline double pred_max_(double x, double y) { return x < y ? y : x; }
 static inline double pred_min_(double x, double y) { return x < y ? x : y; }
 
