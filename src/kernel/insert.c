@@ -263,44 +263,61 @@ static inline void link_edge(kmesh *m, uint32_t *cell, uint32_t handle, int *pen
     }
 }
 
+/* For a new tet with the point in slot f, the facet opposite slot k (k != f) holds the point
+ * and the edge of slots EDGE[f][k][0..1]. */
+static const uint8_t EDGE[4][4][2] = {
+    {{0, 0}, {2, 3}, {1, 3}, {1, 2}},
+    {{2, 3}, {0, 0}, {0, 3}, {0, 2}},
+    {{1, 3}, {0, 3}, {0, 0}, {0, 1}},
+    {{1, 2}, {0, 2}, {0, 1}, {0, 0}},
+};
+
 static gtet_status adjacency_fast(kctx *c, const uint32_t *slots, size_t nb, int *ok)
 {
     kmesh *m = c->m;
     const kbound *b = c->bnd;
-    /* cavity-local ids: 0 for the vertex at infinity, 1.. for finite boundary vertices */
-    for (size_t i = 0; i < nb; i++)
-        for (int k = 0; k < 4; k++)
-            if ((uint32_t)k != b[i].f && b[i].v[k] != KM_GHOST) m->vloc[b[i].v[k]] = 0xff;
+    /* cavity-local ids: 0 for the vertex at infinity, 1.. for finite boundary vertices in order
+     * of first sight.  vloc is 0xff for every vertex outside a cavity; the ids handed out are
+     * reset at the end, so no pass is needed to clear them first. */
+    uint32_t seen[KM_LOC_MAX];
     unsigned next = 1;
-    for (size_t i = 0; i < nb; i++)
-        for (int k = 0; k < 4; k++) {
-            uint32_t v = b[i].v[k];
-            if ((uint32_t)k == b[i].f || v == KM_GHOST) continue;
-            if (m->vloc[v] == 0xff) {
-                if (next >= KM_LOC_MAX) {
-                    *ok = 0;
-                    return GTET_OK;
-                }
-                m->vloc[v] = (uint8_t)next++;
-            }
-        }
-    *ok = 1;
     int pending = 0;
+    *ok = 1;
     for (size_t i = 0; i < nb; i++) {
-        int f = (int)b[i].f;
-        for (int k = 0; k < 4; k++) {
+        const uint32_t f = b[i].f;
+        unsigned loc[4];
+        for (uint32_t k = 0; k < 4; k++) {
+            uint32_t v = b[i].v[k];
             if (k == f) continue;
-            int i1 = -1, i2 = -1;
-            for (int j = 0; j < 4; j++)
-                if (j != f && j != k) {
-                    if (i1 < 0) i1 = j; else i2 = j;
+            if (v == KM_GHOST) {
+                loc[k] = 0;
+                continue;
+            }
+            unsigned l = m->vloc[v];
+            if (l == 0xff) {
+                if (next >= KM_LOC_MAX) {  /* too many: undo and let the hash path do it */
+                    *ok = 0;
+                    break;
                 }
-            uint32_t va = b[i].v[i1], vb = b[i].v[i2];
-            unsigned la = va == KM_GHOST ? 0 : m->vloc[va];
-            unsigned lb = vb == KM_GHOST ? 0 : m->vloc[vb];
-            unsigned lo = la < lb ? la : lb, hi = la < lb ? lb : la;
-            link_edge(m, &c->table[lo * KM_LOC_MAX + hi], 4 * slots[i] + (uint32_t)k, &pending);
+                seen[next] = v;
+                l = next++;
+                m->vloc[v] = (uint8_t)l;
+            }
+            loc[k] = l;
         }
+        if (!*ok) break;
+        for (uint32_t k = 0; k < 4; k++) {
+            if (k == f) continue;
+            unsigned la = loc[EDGE[f][k][0]], lb = loc[EDGE[f][k][1]];
+            unsigned lo = la < lb ? la : lb, hi = la < lb ? lb : la;
+            link_edge(m, &c->table[lo * KM_LOC_MAX + hi], 4 * slots[i] + k, &pending);
+        }
+    }
+    for (unsigned l = 1; l < next; l++) m->vloc[seen[l]] = 0xff;
+    if (!*ok) {
+        /* clear the half-filled table: every entry written so far was for this cavity */
+        for (size_t i = 0; i < (size_t)KM_LOC_MAX * KM_LOC_MAX; i++) c->table[i] = TABLE_EMPTY;
+        return GTET_OK;
     }
     return pending == 0 ? GTET_OK : GTET_ERR_INTERNAL;
 }
