@@ -171,7 +171,7 @@ typedef struct gtet_round_stats {
     uint64_t tried;       /* insertion attempts (retries included) */
     uint64_t inserted;    /* points inserted */
     uint64_t deferred;    /* attempts rolled back on a colour conflict */
-    int threads;          /* threads used in the round's last pass */
+    int threads;          /* the most threads a pass of the round used */
     int passes;           /* partition passes the round needed */
 } gtet_round_stats;
 

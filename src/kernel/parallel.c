@@ -249,7 +249,7 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
     while (np > 0) {
         while (nth > 1 && np < (size_t)nth * MIN_PER_THREAD) nth /= 2;
         rs->passes++;
-        rs->threads = nth;
+        if (nth > rs->threads) rs->threads = nth;  /* the most threads any pass used */
         if (nth <= 1) {
             rs->tried += np;
             rs->inserted += np;
