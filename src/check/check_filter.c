@@ -60,20 +60,36 @@ static iv iv_add(iv a, iv b) { return (iv){down(a.lo + b.lo), up(a.hi + b.hi)}; 
 
 static iv iv_sub(iv a, iv b) { return (iv){down(a.lo - b.hi), up(a.hi - b.lo)}; }
 
-/* The four bound products, each widened unless a factor is 0 (then it is exactly 0). */
+/* x*y rounded, widened down / up, unless a factor is 0 (then the product is exactly 0). */
+static double mul_down(double x, double y) { return x == 0.0 || y == 0.0 ? 0.0 : pred(x * y); }
+static double mul_up(double x, double y) { return x == 0.0 || y == 0.0 ? 0.0 : succ(x * y); }
+
+/* [a]*[b]: when both signs are known the bounds are two specific corner products (products of
+ * same-signed factors are monotone in each factor); otherwise the min and max of all four.
+ * A NaN anywhere (inf * 0, NaN inputs fall to the general case) makes the result NaN. */
 static iv iv_mul(iv a, iv b)
 {
-    const double x[4] = {a.lo, a.lo, a.hi, a.hi}, y[4] = {b.lo, b.hi, b.lo, b.hi};
-    double lo = INFINITY, hi = -INFINITY;
-    for (int i = 0; i < 4; i++) {
-        double p = x[i] * y[i];
-        if (isnan(p)) return (iv){NAN, NAN};
-        int exact = x[i] == 0.0 || y[i] == 0.0;
-        double pl = exact ? 0.0 : pred(p), ph = exact ? 0.0 : succ(p);
-        if (pl < lo) lo = pl;
-        if (ph > hi) hi = ph;
+    iv r;
+    if (a.lo >= 0 && b.lo >= 0)
+        r = (iv){mul_down(a.lo, b.lo), mul_up(a.hi, b.hi)};
+    else if (a.lo >= 0 && b.hi <= 0)
+        r = (iv){mul_down(a.hi, b.lo), mul_up(a.lo, b.hi)};
+    else if (a.hi <= 0 && b.lo >= 0)
+        r = (iv){mul_down(a.lo, b.hi), mul_up(a.hi, b.lo)};
+    else if (a.hi <= 0 && b.hi <= 0)
+        r = (iv){mul_down(a.hi, b.hi), mul_up(a.lo, b.lo)};
+    else {
+        const double x[4] = {a.lo, a.lo, a.hi, a.hi}, y[4] = {b.lo, b.hi, b.lo, b.hi};
+        r = (iv){INFINITY, -INFINITY};
+        for (int i = 0; i < 4; i++) {
+            if (isnan(x[i] * y[i])) return (iv){NAN, NAN};
+            double pl = mul_down(x[i], y[i]), ph = mul_up(x[i], y[i]);
+            if (pl < r.lo) r.lo = pl;
+            if (ph > r.hi) r.hi = ph;
+        }
     }
-    return (iv){lo, hi};
+    if (isnan(r.lo) || isnan(r.hi)) return (iv){NAN, NAN};
+    return r;
 }
 
 /* +1 / -1 when the interval proves the sign, 0 when it does not (zero inside, or NaN). */
