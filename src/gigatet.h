@@ -199,7 +199,9 @@ void gtet_mesh_stats(const gtet_mesh *mesh, gtet_stats *stats);
 /* ------------------------------------------------------------------------------------------ */
 
 enum {
-    GTET_CHECK_FULL = 1u << 0   /* add the O(n*m) empty-sphere test (small meshes only) */
+    GTET_CHECK_FULL = 1u << 0,      /* add the O(n*m) empty-sphere test (small meshes only) */
+    GTET_CHECK_NO_FILTER = 1u << 1  /* every sign from the GMP oracle, without the checker's
+                                       interval filter (slower; cross-checks the filter) */
 };
 
 typedef struct gtet_check_report {

@@ -11,11 +11,6 @@
 
 #include "../gigatet.h"
 
-/* A check flag beside GTET_CHECK_FULL, to move into gigatet.h: every sign from the GMP oracle,
- * without the interval filter of check_filter.c (slower; for cross-checking the filter). */
-#ifndef GTET_CHECK_NO_FILTER
-#define GTET_CHECK_NO_FILTER (1u << 1)
-#endif
 #define CHK_KNOWN_FLAGS ((unsigned)GTET_CHECK_FULL | (unsigned)GTET_CHECK_NO_FILTER)
 
 typedef struct chk_ctx {
