@@ -57,4 +57,9 @@ static inline int pred_lex_cmp(const double *p, const double *q)
  * bit mask of what failed (see fpenv.h). */
 int pred_fp_selftest(void);
 
+/* CGAL's coplanar_orientation(a,b,c): the orientation of (a,b,c) in the first of the xy, yz,
+ * xz projections where it is not collinear; 0 exactly when a,b,c are collinear. */
+int pred_coplanar_orientation(const double *a, const double *b, const double *c,
+                              pred_counters *cnt);
+
 #endif

@@ -1,0 +1,12 @@
+/* finalize.h -- compaction of the working mesh into the output arrays (see finalize.c). */
+#ifndef GTET_FINALIZE_H
+#define GTET_FINALIZE_H
+
+#include "mesh.h"
+
+/* Hands the mesh's tv/tn arrays over as *tets / *nbrs (finite tets only, GTET_NO_TET on the
+ * hull) and empties m. */
+gtet_status km_finalize(kmesh *m, uint32_t **tets, uint32_t **nbrs, size_t *ntets,
+                        size_t *nhull);
+
+#endif

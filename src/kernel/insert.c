@@ -1,0 +1,455 @@
+/* insert.c -- Bowyer-Watson insertion of one point: walk, cavity, new tets, adjacency.
+ *
+ * Why it is correct (the perturbed Delaunay tetrahedrization is unique and every sign used
+ * here is exact or perturbed consistently, proofs/perturbation.md):
+ *  - walk: from a live tet, cross a facet only when the point is strictly beyond it
+ *    (exact orient3d < 0 with the point in that facet's slot).  A finite tet with no such
+ *    facet contains the point in its closure, and a point of a closed tet other than its
+ *    vertices is strictly inside its circumsphere, so that tet conflicts; a ghost is entered
+ *    only through its finite facet with the point strictly beyond, so it conflicts too.  The
+ *    facet order is randomised; after a step budget the walk gives up and a linear scan finds a
+ *    conflicting tet, so the walk always terminates (proofs/termination.md).
+ *  - cavity: the tets whose perturbed circumsphere contains the point (ghosts: the hull rule)
+ *    form a connected, star-shaped region around it; a breadth-first search from the located
+ *    tet collects them and the facets between a deleted and a kept tet (the boundary).
+ *  - new tets: each boundary facet f of a deleted tet t gives the tet t with vertex f replaced
+ *    by the point.  Star-shapedness keeps the orientation positive (ghosts included, in the
+ *    lifted picture), and a ghost keeps its vertex at infinity in slot 3.
+ *  - adjacency: two new tets are adjacent across the facet holding the point and a boundary
+ *    edge; each boundary edge is shared by exactly two boundary facets.  Edges are matched in a
+ *    table indexed by cavity-local vertex ids (the paper's fast adjacency); the first visitor
+ *    of an edge stores its facet, the second links both and clears the entry, so the table is
+ *    empty again after every cavity (checked: a leftover entry is an internal error).
+ * No allocation in the loop except amortised growth of the per-thread buffers and the arrays.
+ */
+#include "mesh.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define TABLE_EMPTY UINT32_MAX
+
+gtet_status km_reserve(kmesh *m, size_t slots)
+{
+    if (slots <= m->cap) return GTET_OK;
+    if (slots > KM_MAX_SLOTS) return GTET_ERR_TOO_LARGE;
+    size_t cap = m->cap ? m->cap : 64;
+    while (cap < slots) cap += cap / 2 + 64;
+    if (cap > KM_MAX_SLOTS) cap = KM_MAX_SLOTS;
+    uint32_t *tv = realloc(m->tv, 4 * cap * sizeof *tv);
+    if (!tv) return GTET_ERR_OUT_OF_MEMORY;
+    m->tv = tv;
+    uint32_t *tn = realloc(m->tn, 4 * cap * sizeof *tn);
+    if (!tn) return GTET_ERR_OUT_OF_MEMORY;
+    m->tn = tn;
+    uint8_t *tf = realloc(m->tf, cap);
+    if (!tf) return GTET_ERR_OUT_OF_MEMORY;
+    m->tf = tf;
+    m->cap = cap;
+    return GTET_OK;
+}
+
+gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint)
+{
+    memset(m, 0, sizeof *m);
+    m->v = v;
+    m->nv = nv;
+    m->vloc = malloc(nv ? nv : 1);
+    if (!m->vloc) return GTET_ERR_OUT_OF_MEMORY;
+    memset(m->vloc, 0xff, nv);
+    return km_reserve(m, slots_hint);
+}
+
+void km_free(kmesh *m)
+{
+    free(m->tv);
+    free(m->tn);
+    free(m->tf);
+    free(m->vloc);
+    memset(m, 0, sizeof *m);
+}
+
+void kctx_init(kctx *c, kmesh *m, uint64_t seed)
+{
+    memset(c, 0, sizeof *c);
+    c->m = m;
+    c->rng = seed * 0x9e3779b97f4a7c15ULL + 1;
+    for (size_t i = 0; i < KM_LOC_MAX * KM_LOC_MAX; i++) c->table[i] = TABLE_EMPTY;
+}
+
+void kctx_free(kctx *c)
+{
+    free(c->cav);
+    free(c->bnd);
+    free(c->freelist);
+    free(c->htab);
+    c->cav = NULL;
+    c->bnd = NULL;
+    c->freelist = NULL;
+    c->htab = NULL;
+}
+
+static int grow(void **buf, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap) return 0;
+    size_t nc = *cap ? *cap : 64;
+    while (nc < need) nc *= 2;
+    void *b = realloc(*buf, nc * elem);
+    if (!b) return -1;
+    *buf = b;
+    *cap = nc;
+    return 0;
+}
+
+static inline uint32_t rng_next(kctx *c)
+{
+    c->rng = c->rng * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (uint32_t)(c->rng >> 33);
+}
+
+/* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)? */
+static inline int conflicts(kctx *c, uint32_t t, const double *p)
+{
+    const kmesh *m = c->m;
+    const uint32_t *v = m->tv + 4 * (size_t)t;
+    if (v[3] == KM_GHOST)
+        return pred_ghost_conflict(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
+                                   &c->cnt) > 0;
+    return pred_insphere_sos(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), km_pt(m, v[3]), p,
+                             &c->cnt) > 0;
+}
+
+/* orient3d of tet t with its vertex f replaced by p (t finite). */
+static inline int orient_replaced(kctx *c, uint32_t t, int f, const double *p)
+{
+    const kmesh *m = c->m;
+    const uint32_t *v = m->tv + 4 * (size_t)t;
+    const double *q[4];
+    for (int i = 0; i < 4; i++) q[i] = km_pt(m, v[i]);
+    q[f] = p;
+    return pred_orient3d(q[0], q[1], q[2], q[3], &c->cnt);
+}
+
+/* Linear scan for a live tet in conflict with p: the walk's guaranteed fallback. */
+static gtet_status scan_for_conflict(kctx *c, const double *p, uint32_t *found)
+{
+    const kmesh *m = c->m;
+    c->walk_fallbacks++;
+    for (size_t t = 0; t < m->nt; t++) {
+        if (m->tf[t] & KM_DELETED) continue;
+        if (conflicts(c, (uint32_t)t, p)) {
+            *found = (uint32_t)t;
+            return GTET_OK;
+        }
+    }
+    return GTET_ERR_INTERNAL;  /* a point outside every circumsphere and beyond no hull facet */
+}
+
+/* Visibility walk from c->last to a tet in conflict with p. */
+static gtet_status walk(kctx *c, const double *p, uint32_t *found)
+{
+    const kmesh *m = c->m;
+    uint32_t t = c->last;
+    uint32_t entry = UINT32_MAX;   /* handle 4t+f of the facet we came in through */
+    if (km_is_ghost(m, t)) {
+        entry = m->tn[4 * (size_t)t + 3];
+        t = entry >> 2;
+    }
+    uint64_t budget = 64 + 4 * (uint64_t)m->nt;
+    for (uint64_t step = 0; step < budget; step++) {
+        if (km_is_ghost(m, t)) {  /* entered through its finite facet, strictly beyond */
+            *found = t;
+            c->walk_steps += step;
+            return GTET_OK;
+        }
+        uint32_t r = rng_next(c);
+        int moved = 0;
+        for (int k = 0; k < 4; k++) {
+            int f = (int)((r + (uint32_t)k) & 3);
+            if (4 * t + (uint32_t)f == entry) continue;
+            if (orient_replaced(c, t, f, p) < 0) {
+                uint32_t h = m->tn[4 * (size_t)t + (size_t)f];
+                entry = h;
+                t = h >> 2;
+                moved = 1;
+                break;
+            }
+        }
+        if (!moved) {
+            *found = t;
+            c->walk_steps += step;
+            return GTET_OK;
+        }
+    }
+    c->walk_steps += budget;
+    return scan_for_conflict(c, p, found);
+}
+
+static gtet_status take_slot(kctx *c, uint32_t *slot)
+{
+    kmesh *m = c->m;
+    if (c->nfree) {
+        *slot = c->freelist[--c->nfree];
+        return GTET_OK;
+    }
+    if (m->nt >= m->cap) {
+        gtet_status s = km_reserve(m, m->nt + 1);
+        if (s != GTET_OK) return s;
+    }
+    *slot = (uint32_t)m->nt++;
+    return GTET_OK;
+}
+
+/* Link the new tets' facets that contain the new point, through the edge table.  For new tet
+ * s (point in slot f) and each other slot k, the facet opposite k holds the point and the edge
+ * made of the two slots other than k and f. */
+static inline void link_edge(kmesh *m, uint32_t *cell, uint32_t handle, int *pending)
+{
+    if (*cell == TABLE_EMPTY) {
+        *cell = handle;
+        (*pending)++;
+    } else {
+        m->tn[*cell] = handle;
+        m->tn[handle] = *cell;
+        *cell = TABLE_EMPTY;
+        (*pending)--;
+    }
+}
+
+static gtet_status adjacency_fast(kctx *c, const uint32_t *slots, size_t nb, int *ok)
+{
+    kmesh *m = c->m;
+    const kbound *b = c->bnd;
+    /* cavity-local ids: 0 for the vertex at infinity, 1.. for finite boundary vertices */
+    for (size_t i = 0; i < nb; i++)
+        for (int k = 0; k < 4; k++)
+            if ((uint32_t)k != b[i].f && b[i].v[k] != KM_GHOST) m->vloc[b[i].v[k]] = 0xff;
+    unsigned next = 1;
+    for (size_t i = 0; i < nb; i++)
+        for (int k = 0; k < 4; k++) {
+            uint32_t v = b[i].v[k];
+            if ((uint32_t)k == b[i].f || v == KM_GHOST) continue;
+            if (m->vloc[v] == 0xff) {
+                if (next >= KM_LOC_MAX) {
+                    *ok = 0;
+                    return GTET_OK;
+                }
+                m->vloc[v] = (uint8_t)next++;
+            }
+        }
+    *ok = 1;
+    int pending = 0;
+    for (size_t i = 0; i < nb; i++) {
+        int f = (int)b[i].f;
+        for (int k = 0; k < 4; k++) {
+            if (k == f) continue;
+            int i1 = -1, i2 = -1;
+            for (int j = 0; j < 4; j++)
+                if (j != f && j != k) {
+                    if (i1 < 0) i1 = j; else i2 = j;
+                }
+            uint32_t va = b[i].v[i1], vb = b[i].v[i2];
+            unsigned la = va == KM_GHOST ? 0 : m->vloc[va];
+            unsigned lb = vb == KM_GHOST ? 0 : m->vloc[vb];
+            unsigned lo = la < lb ? la : lb, hi = la < lb ? lb : la;
+            link_edge(m, &c->table[lo * KM_LOC_MAX + hi], 4 * slots[i] + (uint32_t)k, &pending);
+        }
+    }
+    return pending == 0 ? GTET_OK : GTET_ERR_INTERNAL;
+}
+
+/* Fallback for large cavities: open addressing on the (min, max) vertex pair. */
+static gtet_status adjacency_hash(kctx *c, const uint32_t *slots, size_t nb)
+{
+    kmesh *m = c->m;
+    const kbound *b = c->bnd;
+    size_t need = 16;
+    while (need < 4 * 3 * nb) need <<= 1;
+    size_t cap = need, mask = cap - 1;
+    /* entry i: the edge key in htab[2i], the waiting facet handle in htab[2i+1] */
+    if (grow((void **)&c->htab, &c->htab_cap, 2 * cap, sizeof *c->htab))
+        return GTET_ERR_OUT_OF_MEMORY;
+    for (size_t i = 0; i < 2 * cap; i++) c->htab[i] = UINT64_MAX;
+    int pending = 0;
+    for (size_t i = 0; i < nb; i++) {
+        int f = (int)b[i].f;
+        for (int k = 0; k < 4; k++) {
+            if (k == f) continue;
+            int i1 = -1, i2 = -1;
+            for (int j = 0; j < 4; j++)
+                if (j != f && j != k) {
+                    if (i1 < 0) i1 = j; else i2 = j;
+                }
+            uint64_t va = b[i].v[i1], vb = b[i].v[i2];
+            uint64_t key = va < vb ? (va << 32 | vb) : (vb << 32 | va);
+            size_t h = (size_t)((key * 0x9e3779b97f4a7c15ULL) >> 20) & mask;
+            uint32_t handle = 4 * slots[i] + (uint32_t)k;
+            for (;;) {
+                if (c->htab[2 * h] == UINT64_MAX) {
+                    c->htab[2 * h] = key;
+                    c->htab[2 * h + 1] = handle;
+                    pending++;
+                    break;
+                }
+                if (c->htab[2 * h] == key && c->htab[2 * h + 1] != UINT64_MAX) {
+                    uint32_t other = (uint32_t)c->htab[2 * h + 1];
+                    m->tn[other] = handle;
+                    m->tn[handle] = other;
+                    c->htab[2 * h + 1] = UINT64_MAX;  /* consumed; key stays as a tombstone */
+                    pending--;
+                    break;
+                }
+                h = (h + 1) & mask;
+            }
+        }
+    }
+    c->big_cavities++;
+    return pending == 0 ? GTET_OK : GTET_ERR_INTERNAL;
+}
+
+gtet_status km_insert(kctx *c, uint32_t pid)
+{
+    kmesh *m = c->m;
+    const double *p = km_pt(m, pid);
+    uint32_t t0;
+    gtet_status s = walk(c, p, &t0);
+    if (s != GTET_OK) return s;
+    if (!conflicts(c, t0, p)) {
+        /* the located tet must conflict (see the top of this file); fall back to a scan */
+        s = scan_for_conflict(c, p, &t0);
+        if (s != GTET_OK) return s;
+    }
+
+    /* cavity: breadth-first search over conflicting tets */
+    size_t ncav = 0, nb = 0;
+    if (grow((void **)&c->cav, &c->cav_cap, 64, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
+    c->cav[ncav++] = t0;
+    m->tf[t0] |= KM_DELETED;
+    for (size_t i = 0; i < ncav; i++) {
+        uint32_t t = c->cav[i];
+        for (uint32_t f = 0; f < 4; f++) {
+            uint32_t h = m->tn[4 * (size_t)t + f];
+            uint32_t u = h >> 2;
+            if (m->tf[u] & KM_DELETED) continue;
+            if (conflicts(c, u, p)) {
+                if (grow((void **)&c->cav, &c->cav_cap, ncav + 1, sizeof *c->cav))
+                    return GTET_ERR_OUT_OF_MEMORY;
+                m->tf[u] |= KM_DELETED;
+                c->cav[ncav++] = u;
+            } else {
+                if (grow((void **)&c->bnd, &c->bnd_cap, nb + 1, sizeof *c->bnd))
+                    return GTET_ERR_OUT_OF_MEMORY;
+                kbound *b = &c->bnd[nb++];
+                memcpy(b->v, m->tv + 4 * (size_t)t, sizeof b->v);
+                b->v[f] = pid;
+                b->outer = h;
+                b->f = f;
+            }
+        }
+    }
+
+    /* slots: the cavity's own first, then the free list, then fresh ones */
+    if (grow((void **)&c->freelist, &c->free_cap, c->nfree + ncav, sizeof *c->freelist))
+        return GTET_ERR_OUT_OF_MEMORY;
+    for (size_t i = ncav; i-- > 0;) c->freelist[c->nfree++] = c->cav[i];
+    /* the slots array reuses the cavity buffer (its content was just copied) */
+    if (grow((void **)&c->cav, &c->cav_cap, nb, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
+    uint32_t *slots = c->cav;
+    for (size_t i = 0; i < nb; i++) {
+        s = take_slot(c, &slots[i]);
+        if (s != GTET_OK) return s;
+    }
+    for (size_t i = 0; i < nb; i++) {
+        const kbound *b = &c->bnd[i];
+        uint32_t n = slots[i];
+        memcpy(m->tv + 4 * (size_t)n, b->v, sizeof b->v);
+        m->tf[n] = 0;
+        m->tn[4 * (size_t)n + b->f] = b->outer;
+        m->tn[b->outer] = 4 * n + b->f;
+    }
+    /* A ghost whose finite facet is on the boundary becomes a finite tet (a,b,c,p).  The
+     * consistency of the hull rule with the interior rule (proofs/perturbation.md) makes it
+     * positively oriented; a flat or inverted tet here would be a predicate bug, so it is
+     * checked (this only happens for points outside the current hull). */
+    for (size_t i = 0; i < nb; i++) {
+        const kbound *b = &c->bnd[i];
+        if (b->f == 3 && b->v[3] == pid &&
+            pred_orient3d(km_pt(m, b->v[0]), km_pt(m, b->v[1]), km_pt(m, b->v[2]), p,
+                          &c->cnt) <= 0)
+            return GTET_ERR_INTERNAL;
+    }
+    int ok = 0;
+    s = adjacency_fast(c, slots, nb, &ok);
+    if (s != GTET_OK) return s;
+    if (!ok) {
+        s = adjacency_hash(c, slots, nb);
+        if (s != GTET_OK) return s;
+    }
+    c->tets_created += nb;
+    /* start the next walk from a finite new tet when there is one */
+    c->last = slots[0];
+    for (size_t i = 0; i < nb; i++)
+        if (m->tv[4 * (size_t)slots[i] + 3] != KM_GHOST) {
+            c->last = slots[i];
+            break;
+        }
+    return GTET_OK;
+}
+
+gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t d)
+{
+    kmesh *m = c->m;
+    gtet_status s = km_reserve(m, 5);
+    if (s != GTET_OK) return s;
+    int o = pred_orient3d(km_pt(m, a), km_pt(m, b), km_pt(m, cc), km_pt(m, d), &c->cnt);
+    if (o == 0) return GTET_ERR_INTERNAL;
+    if (o < 0) {
+        uint32_t tmp = b;
+        b = cc;
+        cc = tmp;
+    }
+    const uint32_t v[4] = {a, b, cc, d};
+    m->nt = 5;
+    memcpy(m->tv, v, sizeof v);
+    m->tf[0] = 0;
+    /* ghost g = 1+k across facet k: the facet's vertices in increasing slot order x<y<z,
+     * orient3d(x,y,z,v_k) has the sign (-1)^(3-k); it must be negative, so swap y and z when
+     * 3-k is even. */
+    for (int k = 0; k < 4; k++) {
+        uint32_t g = (uint32_t)(1 + k), w[3];
+        int n = 0;
+        for (int j = 0; j < 4; j++)
+            if (j != k) w[n++] = v[j];
+        if (((3 - k) & 1) == 0) {
+            uint32_t tmp = w[1];
+            w[1] = w[2];
+            w[2] = tmp;
+        }
+        uint32_t *gv = m->tv + 4 * (size_t)g;
+        gv[0] = w[0];
+        gv[1] = w[1];
+        gv[2] = w[2];
+        gv[3] = KM_GHOST;
+        m->tf[g] = 0;
+        m->tn[4 * g + 3] = (uint32_t)k;     /* tet 0, facet k */
+        m->tn[k] = 4 * g + 3;
+    }
+    /* ghost-ghost adjacency: ghost facet i < 3 holds G and the edge of its finite facet
+     * without vertex i; the other ghost holding the same edge is its neighbour. */
+    for (uint32_t g = 1; g <= 4; g++)
+        for (int i = 0; i < 3; i++) {
+            const uint32_t *gv = m->tv + 4 * (size_t)g;
+            uint32_t e0 = gv[(i + 1) % 3], e1 = gv[(i + 2) % 3];
+            for (uint32_t h = 1; h <= 4; h++) {
+                if (h == g) continue;
+                const uint32_t *hv = m->tv + 4 * (size_t)h;
+                for (int j = 0; j < 3; j++) {
+                    uint32_t f0 = hv[(j + 1) % 3], f1 = hv[(j + 2) % 3];
+                    if ((f0 == e0 && f1 == e1) || (f0 == e1 && f1 == e0))
+                        m->tn[4 * g + (uint32_t)i] = 4 * h + (uint32_t)j;
+                }
+            }
+        }
+    c->last = 0;
+    return GTET_OK;
+}

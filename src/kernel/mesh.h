@@ -1,0 +1,82 @@
+/* mesh.h -- the kernel's working mesh and per-thread insertion context (prefix km_).
+ *
+ * Struct of arrays, as in the seed paper and HXT:
+ *   tv[4t+i]  vertex i of tet t (uint32); KM_GHOST is the vertex at infinity, always in slot 3;
+ *   tn[4t+i]  4*u+j: the tet u across the facet opposite vertex i, and the index j of that
+ *             facet in u, so the back link is tn[4u+j] == 4t+i;
+ *   tf[t]     flag byte (KM_DELETED).
+ * Finite tets are positively oriented (orient3d > 0).  A ghost tet (a,b,c,G) has its finite
+ * facet ordered so that orient3d(a,b,c,x) < 0 for the points x of the hull: the vertex at
+ * infinity is on the positive side, and every ghost is "positively oriented" too, which is
+ * what lets a cavity replace any vertex by the new point without re-orienting (star-shaped
+ * cavity, lifted picture).  The 4*u+j packing limits a mesh to 2^30 tet slots.
+ * Nothing here is global: a kmesh is shared by the threads of one call, a kctx belongs to one
+ * thread (cavity buffers, counters, adjacency table).
+ */
+#ifndef GTET_MESH_H
+#define GTET_MESH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../gigatet.h"
+#include "../pred/pred.h"
+
+#define KM_GHOST UINT32_MAX
+#define KM_DELETED 1u
+#define KM_MAX_SLOTS (UINT32_C(1) << 30)
+#define KM_LOC_MAX 64   /* cavity-local vertex ids for the fast adjacency table */
+
+typedef struct kmesh {
+    const double *v;    /* 3 doubles per vertex */
+    size_t nv;
+    uint32_t *tv;
+    uint32_t *tn;
+    uint8_t *tf;
+    size_t nt;          /* slots in use (live and deleted) */
+    size_t cap;         /* slots allocated */
+    uint8_t *vloc;      /* cavity-local id of each vertex (scratch, nv bytes) */
+} kmesh;
+
+/* One boundary facet of a cavity: the new tet it becomes (the deleted tet's vertices with the
+ * new point in slot f) and the outer facet it is glued to. */
+typedef struct kbound {
+    uint32_t v[4];
+    uint32_t outer;     /* 4*u+j of the facet outside the cavity */
+    uint32_t f;         /* slot of the new point */
+} kbound;
+
+typedef struct kctx {
+    kmesh *m;
+    pred_counters cnt;
+    uint32_t *cav;      /* deleted tets of the current cavity */
+    size_t cav_cap;
+    kbound *bnd;        /* boundary facets of the current cavity */
+    size_t bnd_cap;
+    uint32_t *freelist; /* deleted slots not reused yet */
+    size_t nfree, free_cap;
+    uint32_t last;      /* a live tet near the last insertion: the next walk starts here */
+    uint64_t rng;
+    uint64_t walk_steps, walk_fallbacks, tets_created, big_cavities;
+    uint32_t table[KM_LOC_MAX * KM_LOC_MAX]; /* edge -> facet handle, kept all-empty */
+    uint64_t *htab;     /* fallback edge table for cavities with > 63 boundary vertices */
+    size_t htab_cap;
+} kctx;
+
+static inline int km_is_ghost(const kmesh *m, uint32_t t) { return m->tv[4 * (size_t)t + 3] == KM_GHOST; }
+static inline const double *km_pt(const kmesh *m, uint32_t v) { return m->v + 3 * (size_t)v; }
+
+gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint);
+void km_free(kmesh *m);
+gtet_status km_reserve(kmesh *m, size_t slots);
+
+void kctx_init(kctx *c, kmesh *m, uint64_t seed);
+void kctx_free(kctx *c);
+
+/* Build the first tet on vertices a,b,c,d (not coplanar) and its four ghosts. */
+gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t d);
+
+/* Insert vertex p (not yet in the mesh, distinct from every vertex in it). */
+gtet_status km_insert(kctx *c, uint32_t p);
+
+#endif

@@ -1,0 +1,182 @@
+/* triangulate.c -- gtet_triangulate: validate -> BRIO order -> insert -> compact -> (check).
+ *
+ * The pipeline of DESIGN.md, serial for now (a parallel insertion on Moore-curve partitions
+ * replaces the insertion loop in the parallel kernel).  Every failure frees what was built and
+ * returns a status with details in opts->error; nothing is printed, nothing exits.
+ */
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../sort/sort.h"
+#include "finalize.h"
+#include "mesh.h"
+#include "output.h"
+#include "validate.h"
+
+#define BRIO_FIRST 2048
+#define BRIO_RATIO 6.0
+#define BRIO_SEED 0x67696761746574ULL  /* the result does not depend on it */
+
+static void add_counters(gtet_pred_counters *s, const gtet_pred_counters *a)
+{
+    s->orient_calls += a->orient_calls;
+    s->orient_exact += a->orient_exact;
+    s->orient_gmp += a->orient_gmp;
+    s->orient_zero += a->orient_zero;
+    s->insphere_calls += a->insphere_calls;
+    s->insphere_exact += a->insphere_exact;
+    s->insphere_gmp += a->insphere_gmp;
+    s->insphere_zero += a->insphere_zero;
+    s->sos_calls += a->sos_calls;
+    for (int i = 0; i < 4; i++) s->sos_depth[i] += a->sos_depth[i];
+}
+
+static gtet_status fail(gtet_error *err, gtet_status s, const char *what)
+{
+    if (err && err->status != s) kval_error(err, s, SIZE_MAX, -1, "%s: %s", what, gtet_status_str(s));
+    return s;
+}
+
+gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *opts_in,
+                             gtet_mesh **out)
+{
+    gtet_options opts;
+    if (opts_in) opts = *opts_in;
+    else gtet_options_init(&opts);
+    gtet_error *err = opts.error;
+    if (err) {
+        memset(err, 0, sizeof *err);
+        err->index = SIZE_MAX;
+        err->dimension = -1;
+    }
+    if (!out) return fail(err, GTET_ERR_ARGUMENT, "gtet_triangulate: mesh pointer is NULL");
+    *out = NULL;
+    if (!xyz && n) return fail(err, GTET_ERR_ARGUMENT, "gtet_triangulate: points are NULL");
+    if (opts.threads < 0)
+        return fail(err, GTET_ERR_ARGUMENT, "gtet_triangulate: negative thread count");
+    if (n >= UINT32_MAX) {
+        kval_error(err, GTET_ERR_TOO_LARGE, SIZE_MAX, -1,
+                   "%zu points exceed the 32-bit vertex index limit", n);
+        return GTET_ERR_TOO_LARGE;
+    }
+    double t_start = omp_get_wtime();
+    gtet_status s = kval_finite(xyz, n, err);
+    if (s != GTET_OK) return s;
+
+    gtet_mesh *res = calloc(1, sizeof *res);
+    if (!res) return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the result");
+    res->n_points = n;
+    s = kval_dedup(xyz, n, &res->vertices, &res->input_map, &res->n_vertices, err);
+    if (s != GTET_OK) {
+        gtet_mesh_free(&res);
+        return s;
+    }
+    size_t nv = res->n_vertices;
+    gtet_pred_counters cnt0;
+    memset(&cnt0, 0, sizeof cnt0);
+    double t_validated = omp_get_wtime();
+
+    int threads = opts.threads ? opts.threads : omp_get_max_threads();
+    uint32_t *order = malloc((nv ? nv : 1) * sizeof *order);
+    if (!order) {
+        gtet_mesh_free(&res);
+        return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the insertion order");
+    }
+    for (size_t i = 0; i < nv; i++) order[i] = (uint32_t)i;
+    size_t round_end[64];
+    int nrounds = 0;
+    s = sort_brio(res->vertices, 3, order, nv, BRIO_SEED, BRIO_FIRST, BRIO_RATIO, round_end,
+                  &nrounds, threads);
+    if (s != GTET_OK) {
+        free(order);
+        gtet_mesh_free(&res);
+        return fail(err, s, "sorting the points");
+    }
+    double t_sorted = omp_get_wtime();
+
+    size_t pos[4];
+    s = kval_first_simplex(res->vertices, order, nv, pos, &cnt0, err);
+    if (s != GTET_OK) {
+        free(order);
+        gtet_mesh_free(&res);
+        return s;
+    }
+    /* about 6.5 tets per vertex plus the hull's ghosts; grows if needed */
+    size_t hint = 7 * nv + 64;
+    if (hint > KM_MAX_SLOTS) {
+        if (nv > KM_MAX_SLOTS / 7) {
+            free(order);
+            gtet_mesh_free(&res);
+            kval_error(err, GTET_ERR_TOO_LARGE, SIZE_MAX, -1,
+                       "%zu distinct points exceed the 2^30 tet-slot limit", nv);
+            return GTET_ERR_TOO_LARGE;
+        }
+        hint = KM_MAX_SLOTS;
+    }
+    kmesh m;
+    kctx c;
+    s = km_init(&m, res->vertices, nv, hint);
+    kctx_init(&c, &m, 1);
+    if (s == GTET_OK)
+        s = km_first_tet(&c, order[pos[0]], order[pos[1]], order[pos[2]], order[pos[3]]);
+    size_t every = nv / 200 + 1;
+    for (size_t i = 0; i < nv && s == GTET_OK; i++) {
+        if (i == pos[0] || i == pos[1] || i == pos[2] || i == pos[3]) continue;
+        s = km_insert(&c, order[i]);
+        if (opts.progress && i % every == 0) opts.progress(opts.progress_user, (double)i / (double)nv);
+    }
+    free(order);
+    if (opts.progress && s == GTET_OK) opts.progress(opts.progress_user, 1.0);
+    double t_inserted = omp_get_wtime();
+    size_t slots_peak = m.cap;
+    if (s == GTET_OK) s = km_finalize(&m, &res->tets, &res->neighbors, &res->n_tets, &res->n_hull_facets);
+    add_counters(&res->stats.pred, &cnt0);
+    add_counters(&res->stats.pred, &c.cnt);
+    res->stats.tets_created = c.tets_created + 5;
+    res->stats.walk_steps = c.walk_steps;
+    kctx_free(&c);
+    km_free(&m);
+    if (s != GTET_OK) {
+        gtet_mesh_free(&res);
+        return fail(err, s, "inserting the points");
+    }
+    double t_done = omp_get_wtime();
+    gtet_stats *st = &res->stats;
+    st->seconds_validate = t_validated - t_start;
+    st->seconds_sort = t_sorted - t_validated;
+    st->seconds_insert = t_inserted - t_sorted;
+    st->seconds_finalize = t_done - t_inserted;
+    st->seconds_total = t_done - t_start;
+    st->threads = 1;
+    st->num_rounds = nrounds;
+    /* working mesh: 16 B vertex ids + 16 B neighbours + 1 flag byte per slot, plus the
+     * vertices (24 B each) and their 1-byte cavity-local ids */
+    st->peak_bytes = slots_peak * 33 + nv * 25 + n * 4;
+    st->bytes_per_tet = res->n_tets ? (slots_peak * 33 + nv * 25) / res->n_tets : 0;
+    res->rounds = calloc((size_t)(nrounds > 0 ? nrounds : 1), sizeof *res->rounds);
+    if (!res->rounds) {
+        gtet_mesh_free(&res);
+        return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating statistics");
+    }
+    for (int r = 0; r < nrounds; r++) {
+        size_t b = r ? round_end[r - 1] : 0;
+        res->rounds[r].points = round_end[r] - b;
+        res->rounds[r].tried = res->rounds[r].inserted = round_end[r] - b;
+        res->rounds[r].threads = 1;
+        res->rounds[r].passes = 1;
+    }
+    if (opts.check) {
+        gtet_check_report rep;
+        s = gtet_check(res, xyz, n, 0, &rep);
+        if (s != GTET_OK) {
+            if (err) {
+                kval_error(err, s, SIZE_MAX, -1, "%s", rep.message);
+            }
+            gtet_mesh_free(&res);
+            return s;
+        }
+    }
+    *out = res;
+    return GTET_OK;
+}

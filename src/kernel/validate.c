@@ -1,0 +1,151 @@
+/* validate.c -- input validation: finite coordinates, exact duplicates, affine dimension.
+ *
+ * Duplicates: an open-addressing hash table keyed by the coordinates' bit patterns, with -0.0
+ * folded onto +0.0 before hashing and compared with ==, so two points are duplicates exactly
+ * when their coordinates compare equal.  The first occurrence becomes the vertex; every later
+ * copy maps to it (nothing the user gave is lost: the map says where each point went).
+ * Dimension: one linear scan with the exact predicates; no quartic search.
+ */
+#include "validate.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void kval_error(gtet_error *err, gtet_status status, size_t index, int dimension,
+                const char *fmt, ...)
+{
+    if (!err) return;
+    err->status = status;
+    err->index = index;
+    err->dimension = dimension;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->message, sizeof err->message, fmt, ap);
+    va_end(ap);
+}
+
+gtet_status kval_finite(const double *xyz, size_t n, gtet_error *err)
+{
+    for (size_t i = 0; i < 3 * n; i++) {
+        if (!isfinite(xyz[i])) {
+            kval_error(err, GTET_ERR_NONFINITE, i / 3, -1,
+                       "point %zu has a %s %c coordinate", i / 3,
+                       isnan(xyz[i]) ? "NaN" : "infinite", "xyz"[i % 3]);
+            return GTET_ERR_NONFINITE;
+        }
+    }
+    return GTET_OK;
+}
+
+static uint64_t coord_bits(double x)
+{
+    uint64_t u;
+    if (x == 0.0) x = 0.0;  /* fold -0.0 onto +0.0 */
+    memcpy(&u, &x, sizeof u);
+    return u;
+}
+
+static uint64_t point_hash(const double *p)
+{
+    uint64_t h = coord_bits(p[0]) * 0x9e3779b97f4a7c15ULL;
+    h ^= coord_bits(p[1]) + 0x632be59bd9b4e019ULL + (h << 6) + (h >> 2);
+    h *= 0xbf58476d1ce4e5b9ULL;
+    h ^= coord_bits(p[2]) + 0x94d049bb133111ebULL + (h << 6) + (h >> 2);
+    h ^= h >> 31;
+    h *= 0x94d049bb133111ebULL;
+    return h ^ (h >> 29);
+}
+
+gtet_status kval_dedup(const double *xyz, size_t n, double **verts_out, uint32_t **map_out,
+                       size_t *nv_out, gtet_error *err)
+{
+    *verts_out = NULL;
+    *map_out = NULL;
+    *nv_out = 0;
+    size_t cap = 16;
+    while (cap < 2 * n) cap <<= 1;
+    uint32_t *table = malloc(cap * sizeof *table);
+    uint32_t *map = malloc((n ? n : 1) * sizeof *map);
+    double *verts = malloc((n ? 3 * n : 3) * sizeof *verts);
+    if (!table || !map || !verts) {
+        free(table);
+        free(map);
+        free(verts);
+        kval_error(err, GTET_ERR_OUT_OF_MEMORY, SIZE_MAX, -1,
+                   "out of memory checking %zu points for duplicates", n);
+        return GTET_ERR_OUT_OF_MEMORY;
+    }
+    memset(table, 0xff, cap * sizeof *table);
+    size_t nv = 0;
+    const size_t mask = cap - 1;
+    for (size_t i = 0; i < n; i++) {
+        const double *p = xyz + 3 * i;
+        size_t h = (size_t)point_hash(p) & mask;
+        for (;;) {
+            uint32_t v = table[h];
+            if (v == UINT32_MAX) {
+                table[h] = (uint32_t)nv;
+                memcpy(verts + 3 * nv, p, 3 * sizeof *p);
+                map[i] = (uint32_t)nv++;
+                break;
+            }
+            const double *q = verts + 3 * (size_t)v;
+            if (q[0] == p[0] && q[1] == p[1] && q[2] == p[2]) {
+                map[i] = v;
+                break;
+            }
+            h = (h + 1) & mask;
+        }
+    }
+    free(table);
+    if (nv < n) {
+        double *shrunk = realloc(verts, (nv ? 3 * nv : 3) * sizeof *verts);
+        if (shrunk) verts = shrunk;
+    }
+    *verts_out = verts;
+    *map_out = map;
+    *nv_out = nv;
+    return GTET_OK;
+}
+
+gtet_status kval_first_simplex(const double *verts, const uint32_t *order, size_t nv,
+                               size_t pos[4], pred_counters *cnt, gtet_error *err)
+{
+    size_t i = 1;
+    pos[0] = 0;
+    if (nv == 0) {
+        kval_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, -1,
+                   "no points: a tetrahedrization needs at least 4 distinct points");
+        return GTET_ERR_DEGENERATE_INPUT;
+    }
+    const double *a = verts + 3 * (size_t)order[0];
+    /* vertices are distinct, so the second one differs from the first */
+    if (nv < 2) goto dim0;
+    pos[1] = 1;
+    const double *b = verts + 3 * (size_t)order[1];
+    for (i = 2; i < nv; i++)
+        if (pred_coplanar_orientation(a, b, verts + 3 * (size_t)order[i], cnt) != 0) break;
+    if (i == nv) goto dim1;
+    pos[2] = i;
+    const double *c = verts + 3 * (size_t)order[i];
+    for (i = i + 1; i < nv; i++)
+        if (pred_orient3d(a, b, c, verts + 3 * (size_t)order[i], cnt) != 0) break;
+    if (i == nv) goto dim2;
+    pos[3] = i;
+    return GTET_OK;
+dim0:
+    kval_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 0,
+               "degenerate input of dimension 0: all points are equal (1 distinct point)");
+    return GTET_ERR_DEGENERATE_INPUT;
+dim1:
+    kval_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 1,
+               "degenerate input of dimension 1: all %zu distinct points are collinear", nv);
+    return GTET_ERR_DEGENERATE_INPUT;
+dim2:
+    kval_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 2,
+               "degenerate input of dimension 2: all %zu distinct points are coplanar", nv);
+    return GTET_ERR_DEGENERATE_INPUT;
+}

@@ -1,0 +1,387 @@
+/* test_kernel_triangulate.c -- gtet_triangulate on random and degenerate point sets: every
+ * result passes the exact checker (an independent GMP implementation), the tet set does not
+ * depend on the input order, duplicates are mapped, and degenerate input is reported with its
+ * dimension.  Exercises proofs/perturbation.md (uniqueness: same tets for a shuffled input)
+ * and proofs/termination.md (every family terminates, grids included). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gigatet.h"
+#include "testutil.h"
+
+/* ---- point sets -------------------------------------------------------------------------- */
+
+static double *uniform(size_t n, uint64_t seed)
+{
+    tu_rng r = {seed};
+    double *p = malloc(3 * n * sizeof *p);
+    for (size_t i = 0; i < 3 * n; i++) p[i] = tu_uniform(&r);
+    return p;
+}
+
+static double *grid(int k, size_t *n)
+{
+    *n = (size_t)k * k * k;
+    double *p = malloc(3 * *n * sizeof *p), *q = p;
+    for (int x = 0; x < k; x++)
+        for (int y = 0; y < k; y++)
+            for (int z = 0; z < k; z++) {
+                *q++ = x;
+                *q++ = y;
+                *q++ = z;
+            }
+    return p;
+}
+
+/* integer points on the sphere x^2+y^2+z^2 = r2 */
+static double *cospherical(int r2, size_t *n)
+{
+    int r = (int)sqrt((double)r2) + 1;
+    size_t cap = 64, m = 0;
+    double *p = malloc(3 * cap * sizeof *p);
+    for (int x = -r; x <= r; x++)
+        for (int y = -r; y <= r; y++)
+            for (int z = -r; z <= r; z++) {
+                if (x * x + y * y + z * z != r2) continue;
+                if (m == cap) p = realloc(p, 3 * (cap *= 2) * sizeof *p);
+                p[3 * m] = x;
+                p[3 * m + 1] = y;
+                p[3 * m + 2] = z;
+                m++;
+            }
+    *n = m;
+    return p;
+}
+
+static void shuffle(double *p, size_t n, uint64_t seed)
+{
+    tu_rng r = {seed};
+    for (size_t i = n; i > 1; i--) {
+        size_t j = tu_below(&r, i);
+        for (int d = 0; d < 3; d++) {
+            double t = p[3 * (i - 1) + d];
+            p[3 * (i - 1) + d] = p[3 * j + d];
+            p[3 * j + d] = t;
+        }
+    }
+}
+
+/* ---- canonical form: each tet as its 4 vertices' coordinates, sorted --------------------- */
+
+typedef struct { double c[12]; } ctet;
+
+static int cmp_pt(const double *a, const double *b)
+{
+    for (int i = 0; i < 3; i++)
+        if (a[i] != b[i]) return a[i] < b[i] ? -1 : 1;
+    return 0;
+}
+static int cmp_ctet(const void *a, const void *b)
+{
+    const ctet *x = a, *y = b;
+    for (int i = 0; i < 4; i++) {
+        int c = cmp_pt(x->c + 3 * i, y->c + 3 * i);
+        if (c) return c;
+    }
+    return 0;
+}
+
+static ctet *canonical(const gtet_mesh *m)
+{
+    size_t nt = gtet_mesh_num_tets(m);
+    const uint32_t *t = gtet_mesh_tets(m);
+    const double *v = gtet_mesh_vertices(m);
+    ctet *c = malloc((nt ? nt : 1) * sizeof *c);
+    for (size_t i = 0; i < nt; i++) {
+        for (int k = 0; k < 4; k++) {
+            const double *p = v + 3 * (size_t)t[4 * i + k];
+            for (int d = 0; d < 3; d++) c[i].c[3 * k + d] = p[d] == 0 ? 0.0 : p[d];
+        }
+        /* sort the 4 points inside the tet */
+        for (int a = 1; a < 4; a++)
+            for (int b = a; b > 0 && cmp_pt(c[i].c + 3 * b, c[i].c + 3 * (b - 1)) < 0; b--)
+                for (int d = 0; d < 3; d++) {
+                    double tmp = c[i].c[3 * b + d];
+                    c[i].c[3 * b + d] = c[i].c[3 * (b - 1) + d];
+                    c[i].c[3 * (b - 1) + d] = tmp;
+                }
+    }
+    qsort(c, nt, sizeof *c, cmp_ctet);
+    return c;
+}
+
+/* Triangulate, check exactly, and compare with a shuffled copy. */
+static void check_set(const char *name, double *p, size_t n, int threads)
+{
+    gtet_options o;
+    gtet_error err;
+    gtet_options_init(&o);
+    o.threads = threads;
+    o.error = &err;
+    gtet_mesh *m = NULL;
+    gtet_status s = gtet_triangulate(p, n, &o, &m);
+    TEST_REQUIRE(s == GTET_OK, "%s (n=%zu): status %d: %s", name, n, s, err.message);
+    gtet_check_report rep;
+    s = gtet_check(m, p, n, n <= 300 ? GTET_CHECK_FULL : 0, &rep);
+    TEST_CHECK(s == GTET_OK && rep.ok, "%s (n=%zu): check failed: %s", name, n, rep.message);
+    TEST_CHECK(gtet_mesh_num_tets(m) > 0, "%s: no tets", name);
+
+    double *q = malloc(3 * n * sizeof *q);
+    memcpy(q, p, 3 * n * sizeof *q);
+    shuffle(q, n, 77);
+    gtet_mesh *m2 = NULL;
+    s = gtet_triangulate(q, n, &o, &m2);
+    TEST_REQUIRE(s == GTET_OK, "%s shuffled: status %d", name, s);
+    size_t nt = gtet_mesh_num_tets(m);
+    TEST_CHECK(nt == gtet_mesh_num_tets(m2), "%s: %zu tets, %zu when shuffled", name, nt,
+               gtet_mesh_num_tets(m2));
+    if (nt == gtet_mesh_num_tets(m2)) {
+        ctet *a = canonical(m), *b = canonical(m2);
+        TEST_CHECK(memcmp(a, b, nt * sizeof *a) == 0, "%s: shuffled input gives other tets", name);
+        free(a);
+        free(b);
+    }
+    gtet_mesh_free(&m);
+    gtet_mesh_free(&m2);
+    free(q);
+}
+
+/* ---- tests -------------------------------------------------------------------------------- */
+
+static void test_random_sets_of_many_sizes_pass_the_exact_checker(void)
+{
+    const size_t sizes[] = {4, 5, 6, 7, 10, 20, 50, 100, 300, 1000, 5000, 30000};
+    for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++) {
+        double *p = uniform(sizes[i], 1000 + i);
+        check_set("uniform", p, sizes[i], 1);
+        free(p);
+    }
+}
+
+static void test_integer_grids_every_insphere_degenerate_are_perturbed_consistently(void)
+{
+    for (int k = 2; k <= 12; k += (k < 5 ? 1 : 7)) {
+        size_t n;
+        double *p = grid(k, &n);
+        check_set("grid", p, n, 1);
+        free(p);
+    }
+}
+
+static void test_cospherical_integer_points_are_triangulated_uniquely(void)
+{
+    const int r2s[] = {3, 9, 25, 50, 101, 325};
+    for (size_t i = 0; i < sizeof r2s / sizeof *r2s; i++) {
+        size_t n;
+        double *p = cospherical(r2s[i], &n);
+        if (n >= 4) check_set("cospherical", p, n, 1);
+        free(p);
+    }
+}
+
+static void test_cube_corners_and_centre(void)
+{
+    double p[27];
+    for (int i = 0; i < 8; i++) {
+        p[3 * i] = i & 1;
+        p[3 * i + 1] = (i >> 1) & 1;
+        p[3 * i + 2] = (i >> 2) & 1;
+    }
+    check_set("cube corners", p, 8, 1);
+    p[24] = p[25] = p[26] = 0.5;
+    check_set("cube corners + centre", p, 9, 1);
+}
+
+static void test_lattices_paraboloid_and_plane_with_denormal_apex(void)
+{
+    size_t n = 0;
+    double *p = malloc(3 * 4000 * sizeof *p);
+    /* FCC: cube corners + face centres of a 6^3 block, doubled to stay integer */
+    for (int x = 0; x < 7; x++)
+        for (int y = 0; y < 7; y++)
+            for (int z = 0; z < 7; z++)
+                if ((x + y + z) % 2 == 0) {
+                    p[3 * n] = x;
+                    p[3 * n + 1] = y;
+                    p[3 * n + 2] = z;
+                    n++;
+                }
+    check_set("fcc", p, n, 1);
+    /* BCC: a grid plus the cube centres */
+    n = 0;
+    for (int x = 0; x < 6; x++)
+        for (int y = 0; y < 6; y++)
+            for (int z = 0; z < 6; z++) {
+                p[3 * n] = 2 * x;
+                p[3 * n + 1] = 2 * y;
+                p[3 * n + 2] = 2 * z;
+                n++;
+                if (x < 5 && y < 5 && z < 5) {
+                    p[3 * n] = 2 * x + 1;
+                    p[3 * n + 1] = 2 * y + 1;
+                    p[3 * n + 2] = 2 * z + 1;
+                    n++;
+                }
+            }
+    check_set("bcc", p, n, 1);
+    /* paraboloid lift of an integer grid: all points co-spherical in 4-tuples */
+    n = 0;
+    for (int x = -6; x <= 6; x++)
+        for (int y = -6; y <= 6; y++) {
+            p[3 * n] = x;
+            p[3 * n + 1] = y;
+            p[3 * n + 2] = x * x + y * y;
+            n++;
+        }
+    check_set("paraboloid", p, n, 1);
+    /* a plane of grid points plus one apex at a denormal height */
+    n = 0;
+    for (int x = 0; x < 15; x++)
+        for (int y = 0; y < 15; y++) {
+            p[3 * n] = x;
+            p[3 * n + 1] = y;
+            p[3 * n + 2] = 0;
+            n++;
+        }
+    p[3 * n] = 7;
+    p[3 * n + 1] = 7;
+    p[3 * n + 2] = 0x1p-1074;
+    n++;
+    check_set("plane + denormal apex", p, n, 1);
+    free(p);
+}
+
+static void test_scales_2_pow_minus_1000_and_2_pow_1000_and_mixed(void)
+{
+    const double scales[] = {0x1p-1000, 0x1p1000, 0x1p-1070};
+    for (int s = 0; s < 3; s++) {
+        size_t n;
+        double *p = grid(5, &n);
+        for (size_t i = 0; i < 3 * n; i++) p[i] *= scales[s];
+        check_set("scaled grid", p, n, 1);
+        free(p);
+        p = uniform(500, 9 + (uint64_t)s);
+        for (size_t i = 0; i < 3 * 500; i++) p[i] *= scales[s];
+        check_set("scaled uniform", p, 500, 1);
+        free(p);
+    }
+    /* mixed: a unit cluster plus points near 2^-1000 and 2^600 */
+    double *p = uniform(300, 5);
+    for (size_t i = 0; i < 100; i++)
+        for (int d = 0; d < 3; d++) p[3 * i + d] *= 0x1p-1000;
+    for (size_t i = 100; i < 110; i++)
+        for (int d = 0; d < 3; d++) p[3 * i + d] *= 0x1p600;
+    check_set("mixed scales", p, 300, 1);
+    free(p);
+}
+
+static void test_duplicates_with_signed_zeros_are_mapped_not_dropped(void)
+{
+    double p[] = {0, 0, 0,  1, 0, 0,  0, 1, 0,  0, 0, 1,  -0.0, 0, -0.0,  1, 0, 0,
+                  1, 1, 1,  0, -0.0, 1};
+    size_t n = sizeof p / sizeof *p / 3;
+    gtet_mesh *m = NULL;
+    gtet_status s = gtet_triangulate(p, n, NULL, &m);
+    TEST_REQUIRE(s == GTET_OK, "status %d", s);
+    TEST_CHECK(gtet_mesh_num_points(m) == 8, "points %zu", gtet_mesh_num_points(m));
+    TEST_CHECK(gtet_mesh_num_vertices(m) == 5, "vertices %zu", gtet_mesh_num_vertices(m));
+    TEST_CHECK(gtet_mesh_num_duplicates(m) == 3, "duplicates %zu", gtet_mesh_num_duplicates(m));
+    const uint32_t *map = gtet_mesh_input_map(m);
+    TEST_CHECK(map[4] == map[0] && map[5] == map[1] && map[7] == map[3], "duplicates mapped wrong");
+    TEST_CHECK(map[0] != map[1] && map[6] == 4, "distinct points mapped wrong");
+    gtet_check_report rep;
+    TEST_CHECK(gtet_check(m, p, n, GTET_CHECK_FULL, &rep) == GTET_OK, "%s", rep.message);
+    gtet_mesh_free(&m);
+    TEST_CHECK(m == NULL, "gtet_mesh_free leaves the pointer set");
+}
+
+static void expect_degenerate(const char *name, const double *p, size_t n, int dim)
+{
+    gtet_options o;
+    gtet_error err;
+    gtet_options_init(&o);
+    o.error = &err;
+    gtet_mesh *m = (gtet_mesh *)&o;  /* must be reset to NULL */
+    gtet_status s = gtet_triangulate(p, n, &o, &m);
+    TEST_CHECK(s == GTET_ERR_DEGENERATE_INPUT, "%s: status %d, expected degenerate", name, s);
+    TEST_CHECK(m == NULL, "%s: mesh not NULL on failure", name);
+    TEST_CHECK(err.dimension == dim, "%s: dimension %d, expected %d (%s)", name, err.dimension,
+               dim, err.message);
+}
+
+static void test_degenerate_input_reports_its_dimension(void)
+{
+    double p[3 * 400];
+    expect_degenerate("empty", p, 0, -1);
+    for (int i = 0; i < 50; i++) p[3 * i] = p[3 * i + 1] = p[3 * i + 2] = 1.5;
+    expect_degenerate("all equal", p, 50, 0);
+    for (int i = 0; i < 50; i++) {
+        p[3 * i] = 0.1 * i;  /* rounded, but exactly on the line x = y = z */
+        p[3 * i + 1] = 0.1 * i;
+        p[3 * i + 2] = 0.1 * i;
+    }
+    expect_degenerate("collinear", p, 50, 1);
+    tu_rng r = {3};
+    for (int i = 0; i < 400; i++) {
+        p[3 * i] = tu_uniform(&r);
+        p[3 * i + 1] = tu_uniform(&r);
+        p[3 * i + 2] = 0.25;
+    }
+    expect_degenerate("coplanar", p, 400, 2);
+    expect_degenerate("three points", p, 3, 2);
+    expect_degenerate("two points", p, 2, 1);
+    expect_degenerate("one point", p, 1, 0);
+}
+
+static void test_nan_and_inf_name_the_input_index(void)
+{
+    double *p = uniform(100, 4);
+    gtet_options o;
+    gtet_error err;
+    gtet_options_init(&o);
+    o.error = &err;
+    gtet_mesh *m = NULL;
+    p[3 * 57 + 1] = NAN;
+    TEST_CHECK(gtet_triangulate(p, 100, &o, &m) == GTET_ERR_NONFINITE && err.index == 57,
+               "NaN at 57: index %zu (%s)", err.index, err.message);
+    p[3 * 57 + 1] = 0.5;
+    p[3 * 12 + 2] = -INFINITY;
+    TEST_CHECK(gtet_triangulate(p, 100, &o, &m) == GTET_ERR_NONFINITE && err.index == 12,
+               "Inf at 12: index %zu (%s)", err.index, err.message);
+    TEST_CHECK(m == NULL, "mesh set on failure");
+    TEST_CHECK(gtet_triangulate(NULL, 5, &o, &m) == GTET_ERR_ARGUMENT, "NULL points accepted");
+    TEST_CHECK(gtet_triangulate(p, 5, &o, NULL) == GTET_ERR_ARGUMENT, "NULL out accepted");
+    free(p);
+}
+
+static void test_check_option_runs_the_checker(void)
+{
+    double *p = uniform(2000, 8);
+    gtet_options o;
+    gtet_options_init(&o);
+    o.check = 1;
+    gtet_mesh *m = NULL;
+    TEST_CHECK(gtet_triangulate(p, 2000, &o, &m) == GTET_OK, "check option fails");
+    gtet_stats st;
+    gtet_mesh_stats(m, &st);
+    TEST_CHECK(st.pred.insphere_calls > 0 && st.pred.orient_calls > 0, "no predicate counts");
+    TEST_CHECK(st.num_rounds >= 1 && st.rounds != NULL, "no round statistics");
+    gtet_mesh_free(&m);
+    free(p);
+}
+
+int main(void)
+{
+    TU_RUN(test_random_sets_of_many_sizes_pass_the_exact_checker);
+    TU_RUN(test_integer_grids_every_insphere_degenerate_are_perturbed_consistently);
+    TU_RUN(test_cospherical_integer_points_are_triangulated_uniquely);
+    TU_RUN(test_cube_corners_and_centre);
+    TU_RUN(test_lattices_paraboloid_and_plane_with_denormal_apex);
+    TU_RUN(test_scales_2_pow_minus_1000_and_2_pow_1000_and_mixed);
+    TU_RUN(test_duplicates_with_signed_zeros_are_mapped_not_dropped);
+    TU_RUN(test_degenerate_input_reports_its_dimension);
+    TU_RUN(test_nan_and_inf_name_the_input_index);
+    TU_RUN(test_check_option_runs_the_checker);
+    return tu_finish();
+}
