@@ -1,19 +1,36 @@
 /* oracle.h -- the independent exact GMP oracle (prefix orc_).
  *
- * Plain exact rational arithmetic (mpq) on the doubles as given: every double is a rational,
- * so these are the true signs.  It shares no code with src/pred/ (not even the perturbation
- * rule, which is written again here from its specification), so tests and the checker
- * compare two independent implementations.  Slow on purpose-simple code, not fast code.
+ * Plain exact integer arithmetic (mpz) on the doubles as given, scaled by one common power of
+ * two per call: every double is a dyadic rational, so these are the true signs.  It shares no
+ * code with src/pred/ (not even the perturbation rule, which is written again here from its
+ * specification), so tests and the checker compare two independent implementations.  Slow on
+ * purpose-simple code, not fast code.  Conventions: those of gigatet.h (see oracle.c).
  */
 #ifndef GTET_ORACLE_H
 #define GTET_ORACLE_H
 
+/* sign det[b-a; c-a; d-a] */
 int orc_orient3d(const double *a, const double *b, const double *c, const double *d);
+/* +1: e strictly inside the sphere of (a,b,c,d) when orient3d(a,b,c,d) > 0; flips with it. */
 int orc_insphere(const double *a, const double *b, const double *c, const double *d,
                  const double *e);
+/* As orc_insphere, zeros broken by CGAL's lexicographic perturbation; 0 only when
+ * orient3d(a,b,c,d) == 0. */
 int orc_insphere_sos(const double *a, const double *b, const double *c, const double *d,
                      const double *e);
+/* The hull rule of gtet_ghost_conflict: +1 when e conflicts with the ghost (a,b,c,inf). */
 int orc_ghost_conflict(const double *a, const double *b, const double *c, const double *e);
+/* 2D orientation in the projection dropping drop_axis (2 -> xy, 0 -> yz, 1 -> xz), CGAL's
+ * orientationC2 on those coordinate pairs. */
 int orc_orient2d_proj(const double *a, const double *b, const double *c, int drop_axis);
+
+/* Extensions. */
+/* -1 / 0 / +1: lexicographic (x, y, z) order of the values (-0.0 == +0.0). */
+int orc_lex_compare(const double *p, const double *q);
+/* CGAL's coplanar_orientationC3(a,b,c): xy projection, else yz, else xz; 0 iff collinear. */
+int orc_coplanar_orientation(const double *a, const double *b, const double *c);
+/* CGAL's perturbed coplanar_side_of_bounded_circle(a,b,c,e) for e in the plane of a,b,c:
+ * +1 inside the perturbed circle, -1 outside; 0 when a,b,c are collinear. */
+int orc_coplanar_circle_sos(const double *a, const double *b, const double *c, const double *e);
 
 #endif

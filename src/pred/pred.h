@@ -17,8 +17,15 @@
 #define GTET_PRED_H
 
 #include "../gigatet.h"
+#include "filter.h"
 #include "fpenv.h"
 
+/* Counters: every function below takes a non-NULL pred_counters* (one record per thread; the
+ * increments are plain, unsynchronised adds) and counts each call and how it was decided:
+ * *_calls, *_exact (filter undecided), *_int (small-integer stage), *_gmp (GMP stage; the
+ * rest of *_exact went through expansions), *_zero (exact zero), sos_calls / sos_depth.
+ * The perturbation's own orient3d evaluations are counted as orient3d calls; the 2D
+ * orientations of the coplanar circle rule are not counted. */
 typedef gtet_pred_counters pred_counters;
 
 /* Exact sign of orient3d (0 possible). */
@@ -29,8 +36,20 @@ int pred_orient3d(const double *a, const double *b, const double *c, const doubl
 int pred_insphere(const double *a, const double *b, const double *c, const double *d,
                   const double *e, pred_counters *cnt);
 
+/* For a caller that inlines the filter (filter.h) itself, e.g. the kernel's cavity test:
+ *     cnt->insphere_calls++;
+ *     int s = pred_insphere_filter(a, b, c, d, e);
+ *     if (s == 0) s = pred_insphere_exact(a, b, c, d, e, cnt);
+ * is exactly pred_insphere (same for orient3d).  The _exact functions count *_exact and
+ * the stage / zero counters, not *_calls. */
+int pred_orient3d_exact(const double *a, const double *b, const double *c, const double *d,
+                        pred_counters *cnt);
+int pred_insphere_exact(const double *a, const double *b, const double *c, const double *d,
+                        const double *e, pred_counters *cnt);
+
 /* Perturbed insphere: equals pred_insphere when that is non-zero; never 0 for five distinct
- * points with orient3d(a,b,c,d) != 0. */
+ * points with orient3d(a,b,c,d) != 0; CGAL's side_of_oriented_sphere(perturb) when
+ * orient3d(a,b,c,d) > 0, and antisymmetric in (a,b,c,d) (see sos.c). */
 int pred_insphere_sos(const double *a, const double *b, const double *c, const double *d,
                       const double *e, pred_counters *cnt);
 

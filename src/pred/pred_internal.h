@@ -1,0 +1,52 @@
+/* pred_internal.h -- the stages of the predicates, exposed for the predicate files, the tests
+ * and the stage benchmark (not for the kernel, which uses pred.h).
+ *
+ * Every exact stage returns 1 and stores the exact sign in *sign when it applies to its input,
+ * 0 when the input is outside its domain (the caller then tries the next stage):
+ *   _int : all coordinates are integers below a bound (derived in exact_int.c)
+ *   _exp : expansions; all nonzero coordinates fit the band after a power-of-two scaling
+ *          (pred_band_scale)
+ *   _gmp : always applies (returns the sign directly).
+ * Axis pairs (u, w) select a coordinate plane: (0,1) xy, (1,2) yz, (0,2) xz.
+ */
+#ifndef GTET_PRED_INTERNAL_H
+#define GTET_PRED_INTERNAL_H
+
+#include "pred.h"
+
+/* Band of the expansion stage: every nonzero |coordinate| in [2^-150, 2^150).  Then every
+ * coordinate (and every difference of two) is a multiple of 2^-202, a degree-k product term is
+ * a multiple of 2^(-202k) >= 2^-1010 (k <= 5) and below 2^770, so no Two-Product tail
+ * underflows and no Dekker split (x * (2^27+1)) overflows: the expansions are exact. */
+#define PRED_BAND_LO_EXP (-150)
+#define PRED_BAND_HI_EXP 150
+
+/* Copy the 3*n coordinates of pts[0..n-1] into out[3*n], multiplied by one power of two
+ * chosen so that every nonzero coordinate lies in the band (signs of homogeneous predicates
+ * are unchanged by a positive scaling; a power-of-two scaling into the normal range is exact).
+ * Returns 0 when no such scaling exists (the exponents span more than 299 binades). */
+int pred_band_scale(const double *const *pts, int n, double *out);
+
+int pred_orient3d_int(const double *a, const double *b, const double *c, const double *d,
+                      int *sign);
+int pred_insphere_int(const double *a, const double *b, const double *c, const double *d,
+                      const double *e, int *sign);
+int pred_orient2d_int(const double *a, const double *b, const double *c, int u, int w,
+                      int *sign);
+/* sign of det[(u,w,|.|^2) of a-e; b-e; c-e] (see sos.c) */
+int pred_lifted2d_int(const double *a, const double *b, const double *c, const double *e,
+                      int u, int w, int *sign);
+
+int pred_orient3d_exp(const double *a, const double *b, const double *c, const double *d,
+                      int *sign);
+int pred_insphere_exp(const double *a, const double *b, const double *c, const double *d,
+                      const double *e, int *sign);
+
+int pred_orient3d_gmp(const double *a, const double *b, const double *c, const double *d);
+int pred_insphere_gmp(const double *a, const double *b, const double *c, const double *d,
+                      const double *e);
+int pred_orient2d_gmp(const double *a, const double *b, const double *c, int u, int w);
+int pred_lifted2d_gmp(const double *a, const double *b, const double *c, const double *e,
+                      int u, int w);
+
+#endif

@@ -1,0 +1,148 @@
+/* sos.c -- symbolic perturbation: insphere_sos, the hull (ghost) rule and the perturbed
+ * coplanar in-circle test, exactly as CGAL's Delaunay_triangulation_3 decides them
+ * (side_of_oriented_sphere / coplanar_side_of_bounded_circle with perturb = true, and
+ * side_of_sphere for a cell whose vertex 3 is infinite), so that gigatet's output equals CGAL's.
+ *
+ * Perturbation order: the lexicographic (x, y, z) rank of the points (pred_lex_cmp), as
+ * CGAL's Perturbation_order (compare_xyz).  Devillers & Teillaud (CGTA 2011) perturb the lifted
+ * coordinate of each point by eps^(rank); expanding the perturbed determinant, the coefficient
+ * of the highest-ranked point's term is the orientation of the other four (with the query in
+ * its place), so:
+ *   insphere_sos: exact sign if non-zero; else for the largest, then the second largest of the
+ *     5 points: if it is e -> -orient3d(a,b,c,d) (= -1 for CGAL's positively oriented cells,
+ *     the sign flips with the orientation as for the unperturbed predicate); otherwise orient3d of (a,b,c,d) with that point replaced by e,
+ *     if non-zero.  (Two steps suffice when orient3d(a,b,c,d) != 0, D&T Lemma; if they do not,
+ *     the precondition was violated and we return -1, CGAL's fallback.)
+ *   coplanar circle: the same in the plane with CGAL's coplanar_orientation (first non-zero of
+ *     the xy, yz, xz projections), three steps, the answer multiplied by `local` =
+ *     coplanar_orientation(a,b,c), and -local when all three vanish.
+ *
+ * Exact coplanar in-circle (our own formula).  For coplanar a,b,c,e with a,b,c not collinear,
+ * pick the first coordinate plane (u,w) in the order xy, yz, xz where o2 = orient2d_uw(a,b,c)
+ * != 0 (the projection is then an affine bijection of the common plane P onto R^2).  Let
+ * d_p = (p-e)_{uw} and Q(d_p) = |p-e|^2 (3D).  On P, Q is a positive definite quadratic form of
+ * the projected difference, and the circle through a,b,c is {p : f(p) = 0} with f(p) =
+ * |p-o|^2 - r^2 = Q(d_p) + (linear in d_p) + f(e).  Then
+ *     D = det[d_a Q_a; d_b Q_b; d_c Q_c] = det[d_a Q_a 1; d_b Q_b 1; d_c Q_c 1; 0 0 1]
+ * and adding the linear and constant parts to the Q column (column operations) replaces Q_p by
+ * f(p), which is 0 for a,b,c and f(e) for the last row: D = -f(e) * orient2d_uw(a,b,c).  So e
+ * is strictly inside the circle (f(e) < 0) iff sign(D) * o2 > 0:
+ *     incircle = sign(D) * o2   (+1 inside, -1 outside, 0 on the circle).
+ * This equals CGAL's coplanar_side_of_bounded_circleC3 (the sphere through a,b,c and e + n,
+ * n = (b-a) x (c-a), cut by P is the circle), and both are 0 when a,b,c are collinear.
+ */
+#include "pred_internal.h"
+
+/* idx[0..n-1] = 0..n-1 sorted by increasing lexicographic rank of p[idx[i]] */
+static void lex_sort(const double *const *p, int n, int *idx)
+{
+    for (int i = 0; i < n; i++) idx[i] = i;
+    for (int i = 1; i < n; i++) {
+        int k = idx[i], j = i;
+        while (j > 0 && pred_lex_cmp(p[idx[j - 1]], p[k]) > 0) {
+            idx[j] = idx[j - 1];
+            j--;
+        }
+        idx[j] = k;
+    }
+}
+
+static int orient2d_exact(const double *a, const double *b, const double *c, int u, int w)
+{
+    int s;
+    if (pred_orient2d_int(a, b, c, u, w, &s)) return s;
+    return pred_orient2d_gmp(a, b, c, u, w);
+}
+
+/* CGAL's 3-argument coplanar_orientation: first non-zero projection among xy, yz, xz. */
+static int coplanar_orientation(const double *a, const double *b, const double *c)
+{
+    int o = orient2d_exact(a, b, c, 0, 1);
+    if (o != 0) return o;
+    o = orient2d_exact(a, b, c, 1, 2);
+    if (o != 0) return o;
+    return orient2d_exact(a, b, c, 0, 2);
+}
+
+/* Exact unperturbed coplanar in-circle (see the file comment). */
+static int incircle_coplanar_exact(const double *a, const double *b, const double *c,
+                                   const double *e)
+{
+    static const int axes[3][2] = {{0, 1}, {1, 2}, {0, 2}};
+    for (int k = 0; k < 3; k++) {
+        int u = axes[k][0], w = axes[k][1];
+        int o2 = orient2d_exact(a, b, c, u, w);
+        if (o2 == 0) continue;
+        int d;
+        if (!pred_lifted2d_int(a, b, c, e, u, w, &d)) d = pred_lifted2d_gmp(a, b, c, e, u, w);
+        return d * o2;
+    }
+    return 0; /* a, b, c collinear */
+}
+
+int pred_incircle_coplanar_sos(const double *a, const double *b, const double *c,
+                               const double *e, pred_counters *cnt)
+{
+    int s = incircle_coplanar_exact(a, b, c, e);
+    if (s != 0) return s;
+    cnt->sos_calls++;
+    const double *p[4] = {a, b, c, e};
+    int idx[4];
+    lex_sort(p, 4, idx);
+    const int local = coplanar_orientation(a, b, c);
+    for (int i = 3; i > 0; i--) {
+        const int k = idx[i];
+        if (k == 3) { /* e itself: outside (a,b,c are not collinear) */
+            cnt->sos_depth[3 - i]++;
+            return -1;
+        }
+        const double *q[3] = {a, b, c};
+        q[k] = e; /* the leading monomial's coefficient: a,b,c with p[k] replaced by e */
+        const int o = coplanar_orientation(q[0], q[1], q[2]);
+        if (o != 0) {
+            cnt->sos_depth[3 - i]++;
+            return o * local;
+        }
+    }
+    cnt->sos_depth[3]++;
+    return -local;
+}
+
+int pred_insphere_sos(const double *a, const double *b, const double *c, const double *d,
+                      const double *e, pred_counters *cnt)
+{
+    int s = pred_insphere(a, b, c, d, e, cnt);
+    if (s != 0) return s;
+    cnt->sos_calls++;
+    const double *p[5] = {a, b, c, d, e};
+    int idx[5];
+    lex_sort(p, 5, idx);
+    for (int i = 4; i > 2; i--) {
+        const int k = idx[i];
+        if (k == 4) {
+            /* e's own term: its coefficient is -orient3d(a,b,c,d), i.e. -1 (outside) under
+             * CGAL's precondition orient3d > 0; the general form keeps the result
+             * antisymmetric in (a,b,c,d) when the tet is negatively oriented. */
+            cnt->sos_depth[4 - i]++;
+            const int o = pred_orient3d(a, b, c, d, cnt);
+            return o != 0 ? -o : -1;
+        }
+        const double *q[4] = {a, b, c, d};
+        q[k] = e;
+        const int o = pred_orient3d(q[0], q[1], q[2], q[3], cnt);
+        if (o != 0) {
+            cnt->sos_depth[4 - i]++;
+            return o;
+        }
+    }
+    cnt->sos_depth[2]++; /* only when orient3d(a,b,c,d) == 0 (precondition violated) */
+    return -1;
+}
+
+int pred_ghost_conflict(const double *a, const double *b, const double *c, const double *e,
+                        pred_counters *cnt)
+{
+    const int o = pred_orient3d(a, b, c, e, cnt);
+    if (o != 0) return o;
+    return pred_incircle_coplanar_sos(a, b, c, e, cnt);
+}

@@ -1,0 +1,251 @@
+/* test_pred_perturbation.c -- the symbolic perturbation (insphere_sos, ghost rule, perturbed
+ * coplanar in-circle) follows CGAL's rule and has the properties the kernel relies on.
+ *
+ * Specifications tested:
+ *   - hand-checked cases on the unit cube (worked out in the comments below);
+ *   - on every 5-subset of the cube's 8 corners, in every order of (a,b,c,d) and every choice
+ *     of e: insphere_sos is never 0 when orient3d(a,b,c,d) != 0, equals the exact insphere when
+ *     that is non-zero, changes sign under odd permutations of (a,b,c,d), and equals the
+ *     independent oracle orc_insphere_sos;
+ *   - the same on random 5-tuples of lattice points of integer spheres and of a 3^3 grid,
+ *     at integer, scaled (expansion) and 2^-1074 / 2^960 scales (GMP);
+ *   - ghost rule: never 0 for a non-collinear facet and a distinct e, equals orient3d(a,b,c,e)
+ *     when that is non-zero, equals the perturbed coplanar in-circle otherwise, which equals
+ *     the exact in-circle sign when that is non-zero (checked against a plain 2D in-circle on
+ *     planes z = const), and matches orc_ghost_conflict, on planes that need each projection.
+ */
+#include "oracle/oracle.h"
+#include "pred/pred_internal.h"
+#include "pred_gen.h"
+#include "testutil.h"
+
+#include <string.h>
+
+static gtet_pred_counters cnt;
+
+static const double cube[8][3] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, {0, 1, 1},
+                                  {1, 0, 0}, {1, 0, 1}, {1, 1, 0}, {1, 1, 1}};
+
+/* Worked by hand with CGAL's rule (lexicographic order of corners = index order above). */
+static void test_insphere_sos_hand_checked_cube_cases(void)
+{
+    const double o[3] = {0, 0, 0}, x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1};
+    const double xyz[3] = {1, 1, 1}, xy[3] = {1, 1, 0}, ctr[3] = {0.5, 0.5, 0.5};
+    /* centre strictly inside the cube's sphere: exact +1 for the positive (o,x,y,z) */
+    TEST_CHECK(pred_orient3d(o, x, y, z, &cnt) == 1, "(o,x,y,z) positive");
+    TEST_CHECK(pred_insphere_sos(o, x, y, z, ctr, &cnt) == 1, "centre inside");
+    TEST_CHECK(pred_insphere_sos(x, o, y, z, ctr, &cnt) == -1, "centre, swapped tet");
+    /* e = (1,1,1) is the highest of {o,z,y,x,e}: outside, -1 */
+    TEST_CHECK(pred_insphere(o, x, y, z, xyz, &cnt) == 0, "co-spherical");
+    TEST_CHECK(pred_insphere_sos(o, x, y, z, xyz, &cnt) == -1, "e highest -> -1");
+    TEST_CHECK(pred_insphere_sos(x, o, y, z, xyz, &cnt) == 1, "e highest, negative tet -> +1");
+    /* (o,x,y,xyz) is positive; e = z: highest is d = (1,1,1) -> orient(o,x,y,z) = +1 */
+    TEST_CHECK(pred_orient3d(o, x, y, xyz, &cnt) == 1, "(o,x,y,xyz) positive");
+    TEST_CHECK(pred_insphere_sos(o, x, y, xyz, z, &cnt) == 1, "d highest -> orient(o,x,y,e)");
+    /* e = (1,1,0): highest d gives orient(o,x,y,e) = 0 (z = 0 plane); next is e -> -1 */
+    TEST_CHECK(pred_insphere_sos(o, x, y, xyz, xy, &cnt) == -1, "second step: e -> -1");
+    /* (o,xy,y,xyz) positive, e = x: highest d -> orient(o,xy,y,x) = 0; next b = (1,1,0)
+     * -> orient(o,x,y,xyz) = +1 */
+    TEST_CHECK(pred_orient3d(o, xy, y, xyz, &cnt) == 1, "(o,xy,y,xyz) positive");
+    TEST_CHECK(pred_insphere_sos(o, xy, y, xyz, x, &cnt) == 1, "second step: b -> +1");
+}
+
+static const int perm4[24][4] = {
+    {0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 1, 3}, {0, 2, 3, 1}, {0, 3, 1, 2}, {0, 3, 2, 1},
+    {1, 0, 2, 3}, {1, 0, 3, 2}, {1, 2, 0, 3}, {1, 2, 3, 0}, {1, 3, 0, 2}, {1, 3, 2, 0},
+    {2, 0, 1, 3}, {2, 0, 3, 1}, {2, 1, 0, 3}, {2, 1, 3, 0}, {2, 3, 0, 1}, {2, 3, 1, 0},
+    {3, 0, 1, 2}, {3, 0, 2, 1}, {3, 1, 0, 2}, {3, 1, 2, 0}, {3, 2, 0, 1}, {3, 2, 1, 0}};
+
+static int parity(const int *p)
+{
+    int inv = 0;
+    for (int i = 0; i < 4; i++)
+        for (int j = i + 1; j < 4; j++) inv += p[i] > p[j];
+    return (inv & 1) ? -1 : 1;
+}
+
+/* All properties on one 5-tuple (e = q[4]) over the 24 orders of (a,b,c,d); returns the
+ * number of failures (reported once). */
+static int check_sos_tuple(const double (*q)[3])
+{
+    int base = 0, bad = 0;
+    const double *e = q[4];
+    if (pred_orient3d(q[0], q[1], q[2], q[3], &cnt) == 0) return 0; /* precondition */
+    for (int k = 0; k < 24; k++) {
+        const int *p = perm4[k];
+        const double *a = q[p[0]], *b = q[p[1]], *c = q[p[2]], *d = q[p[3]];
+        int s = pred_insphere_sos(a, b, c, d, e, &cnt);
+        int exact = orc_insphere(a, b, c, d, e);
+        if (k == 0) base = s;
+        if (s == 0) bad++;
+        if (exact != 0 && s != exact) bad++;
+        if (s != parity(p) * base) bad++;
+        if (s != orc_insphere_sos(a, b, c, d, e)) bad++;
+    }
+    if (bad)
+        TEST_CHECK(0, "sos properties fail on (%g %g %g) (%g %g %g) (%g %g %g) (%g %g %g) e (%g %g %g)",
+                   q[0][0], q[0][1], q[0][2], q[1][0], q[1][1], q[1][2], q[2][0], q[2][1],
+                   q[2][2], q[3][0], q[3][1], q[3][2], e[0], e[1], e[2]);
+    return bad;
+}
+
+static void test_insphere_sos_on_all_5_subsets_of_cube_corners(void)
+{
+    int tuples = 0;
+    for (int m = 0; m < 256; m++) {
+        if (__builtin_popcount((unsigned)m) != 5) continue;
+        int idx[5], n = 0;
+        for (int i = 0; i < 8; i++)
+            if (m & (1 << i)) idx[n++] = i;
+        for (int ei = 0; ei < 5; ei++) {
+            double q[5][3];
+            for (int i = 0, r = 0; i < 5; i++)
+                if (i != ei) memcpy(q[r++], cube[idx[i]], sizeof q[0]);
+            memcpy(q[4], cube[idx[ei]], sizeof q[0]);
+            check_sos_tuple((const double (*)[3])q);
+            tuples++;
+        }
+    }
+    TEST_CHECK(tuples == 56 * 5, "tuples %d", tuples);
+}
+
+static void test_insphere_sos_on_cospherical_lattice_points_and_small_grid(void)
+{
+    static int64_t lat[2048][3];
+    tu_rng r = {11};
+    int n = pg_sphere_lattice(425, lat, 2048);
+    TEST_REQUIRE(n > 50, "lattice points %d", n);
+    static const int scales[] = {0, -7, 33, -1074, 960};
+    int decided_by_sos = 0;
+    for (int t = 0; t < 2000; t++) {
+        double q[5][3];
+        int k = scales[t % 5], grid = (t / 5) % 2;
+        int ok = 1;
+        for (int i = 0; i < 5; i++) {
+            for (int j = 0; j < 3; j++)
+                q[i][j] = grid ? ldexp((double)tu_below(&r, 3), k)
+                               : ldexp((double)lat[tu_below(&r, (uint64_t)n)][j], k);
+            for (int l = 0; l < i; l++)
+                if (pred_lex_cmp(q[l], q[i]) == 0) ok = 0; /* distinct points only */
+        }
+        if (!ok) continue;
+        if (!grid) /* whole lattice points, not mixed coordinates */
+            for (int i = 0; i < 5; i++) {
+                const int64_t *l = lat[tu_below(&r, (uint64_t)n)];
+                for (int j = 0; j < 3; j++) q[i][j] = ldexp((double)l[j], k);
+            }
+        ok = 1;
+        for (int i = 0; i < 5; i++)
+            for (int l = 0; l < i; l++)
+                if (pred_lex_cmp(q[l], q[i]) == 0) ok = 0;
+        if (!ok) continue;
+        if (orc_insphere(q[0], q[1], q[2], q[3], q[4]) == 0 &&
+            orc_orient3d(q[0], q[1], q[2], q[3]) != 0)
+            decided_by_sos++;
+        if (check_sos_tuple((const double (*)[3])q) > 0) break;
+    }
+    TEST_CHECK(decided_by_sos > 250, "too few perturbed decisions: %d", decided_by_sos);
+    printf("  %d perturbed decisions among the lattice / grid tuples\n", decided_by_sos);
+}
+
+/* plain 2D in-circle of (a,b,c,e) in the xy plane, integers: +1 inside for any orientation */
+static int incircle_xy(const double *a, const double *b, const double *c, const double *e)
+{
+    double m[3][3];
+    const double *p[3] = {a, b, c};
+    for (int i = 0; i < 3; i++) {
+        double dx = p[i][0] - e[0], dy = p[i][1] - e[1];
+        m[i][0] = dx, m[i][1] = dy, m[i][2] = dx * dx + dy * dy;
+    }
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) -
+                 m[1][0] * (m[0][1] * m[2][2] - m[2][1] * m[0][2]) +
+                 m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2]);
+    double o = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    return ((det > 0) - (det < 0)) * ((o > 0) - (o < 0));
+}
+
+/* Points of a plane through integer points: z = const (xy projection), x + y = const (yz),
+ * y = const (xz: xy and yz projections collinear), a tilted plane x + 2y - 3z = 0. */
+static void plane_point(tu_rng *r, int kind, double *p)
+{
+    int64_t m = (tu_next(r) & 1) ? 1 : 3; /* the 3x3 sub-grid has many collinear triples */
+    double s = (double)pg_int(r, m), t = (double)pg_int(r, m);
+    switch (kind) {
+    case 0: p[0] = s, p[1] = t, p[2] = 2; break;
+    case 1: p[0] = s, p[1] = 1 - s, p[2] = t; break;
+    case 2: p[0] = s, p[1] = -1, p[2] = t; break;
+    default: p[0] = 3 * s - 2 * t, p[1] = t, p[2] = s; break;
+    }
+}
+
+static void test_ghost_conflict_is_never_zero_and_consistent_with_coplanar_circle(void)
+{
+    tu_rng r = {12};
+    int coplanar = 0, perturbed = 0, bad = 0;
+    for (int t = 0; t < 20000 && bad < 5; t++) {
+        int kind = t % 4;
+        double a[3], b[3], c[3], e[3];
+        plane_point(&r, kind, a), plane_point(&r, kind, b), plane_point(&r, kind, c);
+        if (t % 3 == 0) /* e off the plane */
+            e[0] = (double)pg_int(&r, 3), e[1] = (double)pg_int(&r, 3), e[2] = (double)pg_int(&r, 3);
+        else
+            plane_point(&r, kind, e);
+        if (orc_coplanar_orientation(a, b, c) == 0) continue; /* collinear facet */
+        if (!pred_lex_cmp(a, e) || !pred_lex_cmp(b, e) || !pred_lex_cmp(c, e)) continue;
+        int g = pred_ghost_conflict(a, b, c, e, &cnt);
+        int o = orc_orient3d(a, b, c, e);
+        int ok = g != 0 && g == orc_ghost_conflict(a, b, c, e);
+        if (o != 0) {
+            ok &= g == o;
+        } else {
+            coplanar++;
+            int circ = pred_incircle_coplanar_sos(a, b, c, e, &cnt);
+            ok &= g == circ && circ == orc_coplanar_circle_sos(a, b, c, e);
+            /* the perturbed circle test is unoriented when the exact one decides */
+            int ex = kind == 0 ? incircle_xy(a, b, c, e) : 0;
+            if (kind == 0 && ex != 0) ok &= circ == ex;
+            if (kind == 0 && ex == 0) perturbed++;
+            if (kind == 0 && ex != 0) ok &= pred_incircle_coplanar_sos(b, a, c, e, &cnt) == ex;
+        }
+        if (!ok && bad++ < 5)
+            TEST_CHECK(0, "ghost rule fails: kind %d a (%g %g %g) b (%g %g %g) c (%g %g %g) "
+                          "e (%g %g %g): got %d", kind, a[0], a[1], a[2], b[0], b[1], b[2],
+                       c[0], c[1], c[2], e[0], e[1], e[2], g);
+    }
+    TEST_CHECK(coplanar > 5000 && perturbed > 40, "coplanar %d perturbed %d", coplanar,
+               perturbed);
+}
+
+/* The coplanar in-circle at extreme scales (expansion-free GMP path) equals the oracle. */
+static void test_ghost_conflict_at_extreme_scales_matches_oracle(void)
+{
+    tu_rng r = {13};
+    static const int scales[] = {-1074, -1000, -60, 0, 30, 900};
+    for (int t = 0; t < 3000; t++) {
+        int kind = t % 4, k = scales[tu_below(&r, 6)];
+        double p[4][3];
+        for (int i = 0; i < 4; i++) {
+            plane_point(&r, kind, p[i]);
+            for (int j = 0; j < 3; j++) p[i][j] = ldexp(p[i][j], k);
+        }
+        if (orc_coplanar_orientation(p[0], p[1], p[2]) == 0) continue;
+        if (!pred_lex_cmp(p[0], p[3]) || !pred_lex_cmp(p[1], p[3]) || !pred_lex_cmp(p[2], p[3]))
+            continue;
+        int g = pred_ghost_conflict(p[0], p[1], p[2], p[3], &cnt);
+        int want = orc_ghost_conflict(p[0], p[1], p[2], p[3]);
+        TEST_REQUIRE(g == want && g != 0, "scale 2^%d kind %d: got %d want %d", k, kind, g, want);
+    }
+}
+
+int main(void)
+{
+    TU_RUN(test_insphere_sos_hand_checked_cube_cases);
+    TU_RUN(test_insphere_sos_on_all_5_subsets_of_cube_corners);
+    TU_RUN(test_insphere_sos_on_cospherical_lattice_points_and_small_grid);
+    TU_RUN(test_ghost_conflict_is_never_zero_and_consistent_with_coplanar_circle);
+    TU_RUN(test_ghost_conflict_at_extreme_scales_matches_oracle);
+    printf("sos decisions %llu (depth %llu %llu %llu %llu)\n", (unsigned long long)cnt.sos_calls,
+           (unsigned long long)cnt.sos_depth[0], (unsigned long long)cnt.sos_depth[1],
+           (unsigned long long)cnt.sos_depth[2], (unsigned long long)cnt.sos_depth[3]);
+    return tu_finish();
+}

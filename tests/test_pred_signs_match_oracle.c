@@ -1,0 +1,273 @@
+/* test_pred_signs_match_oracle.c -- every stage of orient3d and insphere gives the exact sign.
+ *
+ * Specification: for every tuple of finite doubles, the filter is either undecided (0) or
+ * equal to the exact sign; each exact stage (small integers, expansions, GMP) equals the exact
+ * sign whenever it accepts the tuple; the whole chain and the public gtet_ wrappers equal it.
+ * The exact sign is src/oracle (an independent mpz implementation).  Tuples: random doubles,
+ * 1-2 ulp neighbours of exactly coplanar / co-spherical configurations, integer grids at the
+ * int64 / __int128 / expansion boundaries, lattice points of integer spheres, points rounded
+ * onto a sphere, subnormals, 2^-1074, 2^1000 and mixed scales.  The test also requires each
+ * stage to have been exercised (and the filter to decide most random tuples) so that a stage
+ * silently never running fails it.
+ */
+#include "oracle/oracle.h"
+#include "pred/filter.h"
+#include "pred/pred_internal.h"
+#include "pred_gen.h"
+#include "testutil.h"
+
+#include <string.h>
+
+typedef struct stage_stats {
+    long tuples, filter_decided, int_used, exp_used, zero, bad;
+} stage_stats;
+
+static stage_stats so, si; /* orient3d, insphere */
+
+static void check_orient(double (*p)[3])
+{
+    const double *a = p[0], *b = p[1], *c = p[2], *d = p[3];
+    int ref = orc_orient3d(a, b, c, d), s;
+    gtet_pred_counters cnt;
+    memset(&cnt, 0, sizeof cnt);
+    so.tuples++;
+    so.zero += ref == 0;
+    int f = pred_orient3d_filter(a, b, c, d);
+    if (f) so.filter_decided++;
+    int ok = (f == 0 || f == ref);
+    if (pred_orient3d_int(a, b, c, d, &s)) so.int_used++, ok &= s == ref;
+    if (pred_orient3d_exp(a, b, c, d, &s)) so.exp_used++, ok &= s == ref;
+    if (so.tuples % 3 == 0) ok &= pred_orient3d_gmp(a, b, c, d) == ref; /* slow: a third */
+    ok &= pred_orient3d(a, b, c, d, &cnt) == ref;
+    ok &= gtet_orient3d(a, b, c, d) == ref;
+    if (!ok && so.bad++ < 5)
+        TEST_CHECK(0, "orient3d mismatch (ref %d) at (%a %a %a) (%a %a %a) (%a %a %a) (%a %a %a)",
+                   ref, a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2]);
+}
+
+static void check_insphere(double (*p)[3])
+{
+    const double *a = p[0], *b = p[1], *c = p[2], *d = p[3], *e = p[4];
+    int ref = orc_insphere(a, b, c, d, e), s;
+    gtet_pred_counters cnt;
+    memset(&cnt, 0, sizeof cnt);
+    si.tuples++;
+    si.zero += ref == 0;
+    int f = pred_insphere_filter(a, b, c, d, e);
+    if (f) si.filter_decided++;
+    int ok = (f == 0 || f == ref);
+    if (pred_insphere_int(a, b, c, d, e, &s)) si.int_used++, ok &= s == ref;
+    if (pred_insphere_exp(a, b, c, d, e, &s)) si.exp_used++, ok &= s == ref;
+    if (si.tuples % 3 == 0) ok &= pred_insphere_gmp(a, b, c, d, e) == ref;
+    ok &= pred_insphere(a, b, c, d, e, &cnt) == ref;
+    ok &= gtet_insphere(a, b, c, d, e) == ref;
+    if (!ok && si.bad++ < 5)
+        TEST_CHECK(0, "insphere mismatch (ref %d) at (%a %a %a) (%a %a %a) (%a %a %a) (%a %a %a) "
+                      "(%a %a %a)", ref, a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2],
+                   d[0], d[1], d[2], e[0], e[1], e[2]);
+}
+
+static void check_both(double (*p)[3])
+{
+    check_orient(p);
+    check_insphere(p);
+}
+
+static void reset(void)
+{
+    memset(&so, 0, sizeof so);
+    memset(&si, 0, sizeof si);
+}
+
+static void report(const char *what)
+{
+    printf("  %-34s orient %6ld (filter %6ld int %6ld exp %6ld zero %6ld)  insphere %6ld "
+           "(filter %6ld int %6ld exp %6ld zero %6ld)\n", what, so.tuples, so.filter_decided,
+           so.int_used, so.exp_used, so.zero, si.tuples, si.filter_decided, si.int_used,
+           si.exp_used, si.zero);
+}
+
+static void test_random_unit_doubles_match_oracle(void)
+{
+    tu_rng r = {1};
+    reset();
+    double p[5][3];
+    for (int t = 0; t < 20000; t++) {
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) p[i][j] = tu_uniform(&r);
+        check_both(p);
+    }
+    report("random [0,1)");
+    TEST_CHECK(so.filter_decided > so.tuples * 99 / 100, "filter decides too few orient3d");
+    TEST_CHECK(si.filter_decided > si.tuples * 99 / 100, "filter decides too few insphere");
+}
+
+static void test_random_doubles_any_exponent_match_oracle(void)
+{
+    tu_rng r = {2};
+    reset();
+    double p[5][3];
+    for (int t = 0; t < 6000; t++) {
+        /* narrow spread around a random centre (scaled expansion path), or the full range */
+        int wide = t % 3 == 0;
+        int centre = -1000 + (int)tu_below(&r, 2001);
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++)
+                p[i][j] = wide ? pg_double_exp(&r, -1074, 1023)
+                               : pg_double_exp(&r, centre - 12, centre + 12 > 1023 ? 1023 : centre + 12);
+        if (t % 2) pg_perturb(&r, p, 5);
+        check_both(p);
+        /* the same tuple made degenerate: d (and e) copied from a on one coordinate axis */
+        p[3][0] = p[0][0], p[3][1] = p[1][1], p[3][2] = p[2][2];
+        check_both(p);
+    }
+    report("any exponent");
+    TEST_CHECK(so.exp_used > 2000 && si.exp_used > 2000, "expansion stage barely exercised");
+}
+
+/* Exactly coplanar points: d = a + s (b-a) + t (c-a) in integers, then scaled by 2^k (exact),
+ * then 0-2 ulps moved. */
+static void test_ulp_neighbours_of_coplanar_points_match_oracle(void)
+{
+    tu_rng r = {3};
+    reset();
+    for (int t = 0; t < 15000; t++) {
+        int64_t q[5][3];
+        int64_t m = (int64_t)1 << (4 + tu_below(&r, 26));
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) q[i][j] = pg_int(&r, m);
+        for (int i = 3; i < 5; i++) {
+            int64_t s = pg_int(&r, 4), u = pg_int(&r, 4);
+            for (int j = 0; j < 3; j++)
+                q[i][j] = q[0][j] + s * (q[1][j] - q[0][j]) + u * (q[2][j] - q[0][j]);
+        }
+        int k = (t % 4 == 0) ? 0 : -1070 + (int)tu_below(&r, 2050); /* finite: |q| < 2^36 */
+        double p[5][3];
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) p[i][j] = ldexp((double)q[i][j], k);
+        if (t % 3) pg_perturb(&r, p, 5);
+        check_both(p);
+    }
+    report("coplanar + ulps");
+    TEST_CHECK(so.zero > 1000, "too few exactly coplanar tuples: %ld", so.zero);
+    TEST_CHECK(so.int_used > 1000 && so.exp_used > 1000, "stages not exercised");
+}
+
+/* Lattice points on integer spheres, translated, scaled by 2^k, moved by ulps. */
+static void test_ulp_neighbours_of_cospherical_points_match_oracle(void)
+{
+    static const int64_t radii2[] = {3, 11, 50, 77, 101, 425, 1001, 16900, 1L << 20};
+    static int64_t lat[4096][3];
+    tu_rng r = {4};
+    reset();
+    for (size_t ri = 0; ri < sizeof radii2 / sizeof radii2[0]; ri++) {
+        int n = pg_sphere_lattice(radii2[ri], lat, 4096);
+        TEST_REQUIRE(n >= 5, "sphere %ld has %d lattice points", (long)radii2[ri], n);
+        for (int t = 0; t < 2000; t++) {
+            int64_t cen[3];
+            int64_t cm = (int64_t)1 << (tu_below(&r, 4) * 12);
+            for (int j = 0; j < 3; j++) cen[j] = pg_int(&r, cm);
+            int k = (t % 3 == 0) ? 0 : -1070 + (int)tu_below(&r, 2030); /* |coord| < 2^38 */
+            double p[5][3];
+            for (int i = 0; i < 5; i++) {
+                const int64_t *l = lat[tu_below(&r, (uint64_t)n)];
+                for (int j = 0; j < 3; j++) p[i][j] = ldexp((double)(l[j] + cen[j]), k);
+            }
+            if (t % 2) pg_perturb(&r, p, 5);
+            check_both(p);
+        }
+    }
+    report("cospherical lattice + ulps");
+    TEST_CHECK(si.zero > 3000, "too few exactly co-spherical tuples: %ld", si.zero);
+    TEST_CHECK(si.int_used > 1500 && si.exp_used > 3000, "stages not exercised");
+}
+
+/* Integer grids of several sizes, around the int64 / __int128 / expansion boundaries. */
+static void test_integer_grids_match_oracle(void)
+{
+    static const int bits[] = {1, 2, 5, 10, 11, 12, 20, 21, 22, 23, 24, 30, 39, 40, 41, 45, 53};
+    tu_rng r = {5};
+    reset();
+    for (size_t bi = 0; bi < sizeof bits / sizeof bits[0]; bi++) {
+        int64_t m = ((int64_t)1 << bits[bi]) - 1;
+        for (int t = 0; t < 2000; t++) {
+            double p[5][3];
+            for (int i = 0; i < 5; i++)
+                for (int j = 0; j < 3; j++) {
+                    /* near the top of the range or anywhere in it; few distinct values on
+                     * the small grids so that degeneracies are frequent */
+                    int64_t v = (t & 1) ? m - (int64_t)tu_below(&r, 4) : pg_int(&r, m);
+                    p[i][j] = (double)((tu_next(&r) & 1) ? v : -v);
+                }
+            check_both(p);
+        }
+    }
+    report("integer grids");
+    TEST_CHECK(so.zero > 500 && si.zero > 500, "grids gave too few zeros");
+}
+
+/* Points rounded onto a sphere: centre + radius * unit direction, rounded to doubles. */
+static void test_points_rounded_onto_a_sphere_match_oracle(void)
+{
+    tu_rng r = {6};
+    reset();
+    for (int t = 0; t < 10000; t++) {
+        double cen[3], rad = ldexp(1.0 + tu_uniform(&r), (int)pg_int(&r, 30));
+        for (int j = 0; j < 3; j++) cen[j] = (tu_uniform(&r) - 0.5) * ldexp(1.0, (int)tu_below(&r, 20));
+        double p[5][3];
+        for (int i = 0; i < 5; i++) {
+            double v[3], n2;
+            do {
+                for (int j = 0; j < 3; j++) v[j] = 2 * tu_uniform(&r) - 1;
+                n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            } while (n2 < 0.01 || n2 > 1);
+            double inv = rad / sqrt(n2);
+            for (int j = 0; j < 3; j++) p[i][j] = cen[j] + v[j] * inv;
+        }
+        check_insphere(p);
+        if (t % 4 == 0) check_orient(p);
+    }
+    report("rounded onto a sphere");
+    TEST_CHECK(si.filter_decided < si.tuples, "sphere points never reached the exact stage");
+}
+
+/* Subnormals, 2^-1074, 2^1000, near DBL_MAX and mixtures. */
+static void test_extreme_magnitudes_match_oracle(void)
+{
+    static const double vals[] = {0.0, 0x1p-1074, 0x3p-1074, 0x1p-1073, 0x1p-1022,
+                                  0x0.fffffffffffffp-1022, 0x1p-1000, 0x1.8p-600, 1.0, 1.5,
+                                  0x1p500, 0x1p1000, 0x1.cp1000, 0x1.fffffffffffffp1023,
+                                  0x1p1020, 3.0, 0x1p-150, 0x1p150};
+    const int nv = (int)(sizeof vals / sizeof vals[0]);
+    tu_rng r = {7};
+    reset();
+    for (int t = 0; t < 12000; t++) {
+        double p[5][3];
+        int mode = t % 4;
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) {
+                double v = vals[tu_below(&r, (uint64_t)nv)];
+                if (mode == 1) v = ldexp((double)pg_int(&r, 3), -1074);        /* denormal grid */
+                if (mode == 2) v = ldexp((double)pg_int(&r, 3), 960);          /* huge grid */
+                if (mode == 3 && (i & 1)) v = ldexp((double)pg_int(&r, 3), -1074);
+                if (mode == 3 && !(i & 1)) v = ldexp((double)pg_int(&r, 3), 1000);
+                p[i][j] = (tu_next(&r) & 1) ? -v : v;
+            }
+        if (t % 5 == 0) pg_perturb(&r, p, 5);
+        check_both(p);
+    }
+    report("extreme magnitudes");
+    TEST_CHECK(so.zero > 120 && si.zero > 120, "too few zeros among extreme tuples");
+}
+
+int main(void)
+{
+    TU_RUN(test_random_unit_doubles_match_oracle);
+    TU_RUN(test_random_doubles_any_exponent_match_oracle);
+    TU_RUN(test_ulp_neighbours_of_coplanar_points_match_oracle);
+    TU_RUN(test_ulp_neighbours_of_cospherical_points_match_oracle);
+    TU_RUN(test_integer_grids_match_oracle);
+    TU_RUN(test_points_rounded_onto_a_sphere_match_oracle);
+    TU_RUN(test_extreme_magnitudes_match_oracle);
+    return tu_finish();
+}
