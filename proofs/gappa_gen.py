@@ -160,7 +160,8 @@ class Model:
             s.hyps.append(f"{g} in [-1b{k}, 1b{k}]")
             s.defs.append(f"{c} = {o} + {o} * {d} + {g};")
             s.hints.append(f"{c} - {x} -> ({o} - {x}) + {o} * {d} + {g};")
-            s.hints.append(f"{o} - {x} -> {ca} * ({cb} - {xb}) + ({ca} - {xa}) * {xb};")
+            # o - x = ca*(cb - xb) + (ca - xa)*xb is Gappa's own rule for a product of two
+            # approximations: no hint (an explicit one only widens the search)
         else:
             s.defs.append(f"{c} = {o} + {o} * {d};")
             s.hints.append(f"{c} - {x} -> ({o} - {x}) + {o} * {d};")
