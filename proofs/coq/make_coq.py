@@ -38,6 +38,7 @@ def main():
     args = sys.argv[1:]
     root = args[args.index("--root") + 1] if "--root" in args else os.path.dirname(os.path.dirname(HERE))
     out = args[args.index("--out") + 1] if "--out" in args else os.path.join(root, "build", "proofs", "coq")
+    out = os.path.abspath(out)
     os.makedirs(out, exist_ok=True)
     bad = 0
     for g in sorted(glob.glob(os.path.join(root, "proofs", "*.g"))):
@@ -62,7 +63,7 @@ def main():
         v = "From Coq Require Import Reals.\nOpen Scope R_scope.\n" + v
         vfile = os.path.join(out, f"gappa_{name}.v")
         open(vfile, "w").write(v)
-        c = subprocess.run(["coqc", vfile], capture_output=True, text=True, cwd=out)
+        c = subprocess.run(["coqc", os.path.basename(vfile)], capture_output=True, text=True, cwd=out)
         ok = c.returncode == 0 and "Hypothesis" not in v and "Admitted" not in v
         print(f"{name}: Coq {'accepts' if ok else 'REJECTS'} {vfile}")
         if not ok:
