@@ -97,12 +97,14 @@ int gtet_ghost_conflict(const double a[3], const double b[3], const double c[3],
 typedef struct gtet_pred_counters {
     uint64_t orient_calls;      /* orient3d evaluations */
     uint64_t orient_exact;      /* ... that the filter could not decide */
-    uint64_t orient_int;        /* ... decided by the exact small-integer stage */
+    uint64_t orient_int;        /* ... decided by an exact integer stage (small integers, or
+                                   the 60-bit integer form of the tuple) */
     uint64_t orient_gmp;        /* ... that needed the GMP (out-of-range) exact stage */
     uint64_t orient_zero;       /* ... that were exactly zero */
     uint64_t insphere_calls;    /* insphere evaluations */
     uint64_t insphere_exact;    /* ... that the filter could not decide */
-    uint64_t insphere_int;      /* ... decided by the exact small-integer stage */
+    uint64_t insphere_int;      /* ... decided by an exact integer stage (small integers, or
+                                   the 60-bit integer form of the tuple) */
     uint64_t insphere_gmp;      /* ... that needed the GMP exact stage */
     uint64_t insphere_zero;     /* ... that were exactly zero */
     uint64_t sos_calls;         /* symbolic perturbation decisions (insphere and hull rule) */

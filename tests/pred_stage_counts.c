@@ -3,13 +3,17 @@
  *
  *   pred_stage_counts           1M random tuples in [0,1)^3; all 5-tuples of the 4^3 sub-grid
  *                               {0..3}^3 of the 20^3 grid; 1M random 5-tuples of distinct points
- *                               of the 20^3 grid {0..19}^3; then ns per call of each stage.
+ *                               of the 20^3 grid {0..19}^3; 100k random 5-tuples of points
+ *                               rounded onto the unit sphere; then ns per call of each stage.
  *   pred_stage_counts --timing  only the ns per call (CPU time of this thread).
+ * "integer" counts both integer stages (small integers; the 60-bit integer form).
  *   pred_stage_counts --quick   20k random, the 3^3 sub-grid, 20k grid samples, no timing; checks
  *                               that the counters are consistent (exit status 1 if not): the
  *                               ctest test_pred_stage_counts_are_consistent.
- * For each 5-tuple (a,b,c,d,e): orient3d(a,b,c,d), insphere(a,b,c,d,e), and when orient3d != 0
- * insphere_sos on the positively oriented tet (a,b swapped if needed).
+ * For each 5-tuple (a,b,c,d,e): orient3d(a,b,c,d), then insphere(a,b,c,d,e) once: through
+ * insphere_sos on the positively oriented tet (a,b swapped if needed) when orient3d != 0, plain
+ * when the tet is flat.  So insphere calls = tuples; orient3d calls = tuples + the orient3d
+ * evaluations of the perturbation.
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include "pred/filter.h"
@@ -26,13 +30,13 @@ static void print_counts(const char *what, const gtet_pred_counters *c)
 {
     unsigned long long oc = c->orient_calls, ic = c->insphere_calls;
     printf("%s\n", what);
-    printf("  orient3d  calls %10llu  filter %10llu (%6.2f%%)  exact: int %9llu  expansion %9llu"
+    printf("  orient3d  calls %10llu  filter %10llu (%6.2f%%)  exact: integer %9llu  expansion %9llu"
            "  gmp %7llu  zero %9llu\n", oc, oc - c->orient_exact,
            oc ? 100.0 * (double)(oc - c->orient_exact) / (double)oc : 0.0,
            (unsigned long long)c->orient_int,
            (unsigned long long)(c->orient_exact - c->orient_int - c->orient_gmp),
            (unsigned long long)c->orient_gmp, (unsigned long long)c->orient_zero);
-    printf("  insphere  calls %10llu  filter %10llu (%6.2f%%)  exact: int %9llu  expansion %9llu"
+    printf("  insphere  calls %10llu  filter %10llu (%6.2f%%)  exact: integer %9llu  expansion %9llu"
            "  gmp %7llu  zero %9llu\n", ic, ic - c->insphere_exact,
            ic ? 100.0 * (double)(ic - c->insphere_exact) / (double)ic : 0.0,
            (unsigned long long)c->insphere_int,
@@ -54,9 +58,12 @@ static void tuple(gtet_pred_counters *c, const double *a, const double *b, const
                   const double *d, const double *e)
 {
     int o = pred_orient3d(a, b, cc, d, c);
-    pred_insphere(a, b, cc, d, e, c);
-    if (o > 0) pred_insphere_sos(a, b, cc, d, e, c);
-    if (o < 0) pred_insphere_sos(b, a, cc, d, e, c);
+    if (o > 0)
+        pred_insphere_sos(a, b, cc, d, e, c); /* calls insphere once, then perturbs a zero */
+    else if (o < 0)
+        pred_insphere_sos(b, a, cc, d, e, c);
+    else
+        pred_insphere(a, b, cc, d, e, c);
 }
 
 static void random_tuples(long n)
@@ -120,6 +127,28 @@ static void grid_sample(long n)
     print_counts(what, &c);
 }
 
+static void sphere_sample(long n)
+{
+    gtet_pred_counters c;
+    memset(&c, 0, sizeof c);
+    tu_rng r = {77};
+    for (long t = 0; t < n; t++) {
+        double p[5][3];
+        for (int i = 0; i < 5; i++) {
+            double v[3], n2;
+            do {
+                for (int j = 0; j < 3; j++) v[j] = 2 * tu_uniform(&r) - 1;
+                n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            } while (n2 < 0.01 || n2 > 1);
+            for (int j = 0; j < 3; j++) p[i][j] = v[j] / sqrt(n2);
+        }
+        tuple(&c, p[0], p[1], p[2], p[3], p[4]);
+    }
+    char what[128];
+    snprintf(what, sizeof what, "%ld random 5-tuples of points rounded onto the unit sphere:", n);
+    print_counts(what, &c);
+}
+
 /* ---- timing ---------------------------------------------------------------------------- */
 
 #define NT 4096
@@ -133,7 +162,7 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-enum { K_RANDOM, K_GRID, K_SCALED_LATTICE };
+enum { K_RANDOM, K_GRID, K_SCALED_LATTICE, K_SPHERE };
 
 static void fill(int kind)
 {
@@ -142,6 +171,15 @@ static void fill(int kind)
     tu_rng r = {(uint64_t)kind + 7};
     for (int t = 0; t < NT; t++)
         for (int i = 0; i < 5; i++) {
+            if (kind == K_SPHERE) { /* rounded onto the unit sphere: inexact translations */
+                double v[3], n2;
+                do {
+                    for (int j = 0; j < 3; j++) v[j] = 2 * tu_uniform(&r) - 1;
+                    n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+                } while (n2 < 0.01 || n2 > 1);
+                for (int j = 0; j < 3; j++) tup[t][i][j] = v[j] / sqrt(n2);
+                continue;
+            }
             const int64_t *l = lat[tu_below(&r, (uint64_t)nl)];
             for (int j = 0; j < 3; j++)
                 tup[t][i][j] = kind == K_RANDOM ? tu_uniform(&r)
@@ -155,6 +193,8 @@ static int f_o_filter(int t) { return pred_orient3d_filter(tup[t][0], tup[t][1],
 static int f_i_filter(int t) { return pred_insphere_filter(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4]); }
 static int f_o_int(int t) { int s = 0; pred_orient3d_int(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }
 static int f_i_int(int t) { int s = 0; pred_insphere_int(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
+static int f_o_wide(int t) { int s = 0; pred_orient3d_wide(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }
+static int f_i_wide(int t) { int s = 0; pred_insphere_wide(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
 static int f_o_exp(int t) { int s = 0; pred_orient3d_exp(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }
 static int f_i_exp(int t) { int s = 0; pred_insphere_exp(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
 static int f_o_gmp(int t) { return pred_orient3d_gmp(tup[t][0], tup[t][1], tup[t][2], tup[t][3]); }
@@ -181,14 +221,20 @@ static void timing(void)
     time_stage("orient3d filter, random [0,1)", K_RANDOM, f_o_filter, 5000000);
     time_stage("orient3d int path, 20^3 grid", K_GRID, f_o_int, 5000000);
     time_stage("orient3d expansions translated, lattice/2^7", K_SCALED_LATTICE, f_o_exp, 500000);
-    time_stage("orient3d expansions raw, random [0,1)", K_RANDOM, f_o_exp, 200000);
+    time_stage("orient3d expansions translated, random [0,1)", K_RANDOM, f_o_exp, 200000);
+    time_stage("orient3d expansions raw, unit sphere", K_SPHERE, f_o_exp, 200000);
+    time_stage("orient3d 60-bit integer form, unit sphere", K_SPHERE, f_o_wide, 1000000);
     time_stage("orient3d gmp, random [0,1)", K_RANDOM, f_o_gmp, 300000);
     time_stage("orient3d full chain, random [0,1)", K_RANDOM, f_o_chain, 5000000);
     time_stage("orient3d full chain, 20^3 grid", K_GRID, f_o_chain, 5000000);
     time_stage("insphere filter, random [0,1)", K_RANDOM, f_i_filter, 5000000);
     time_stage("insphere int path, 20^3 grid", K_GRID, f_i_int, 5000000);
     time_stage("insphere expansions translated, lattice/2^7", K_SCALED_LATTICE, f_i_exp, 1000000);
-    time_stage("insphere expansions raw, random [0,1)", K_RANDOM, f_i_exp, 100000);
+    time_stage("insphere expansions translated, random [0,1)", K_RANDOM, f_i_exp, 100000);
+    time_stage("insphere 60-bit integer form, unit sphere", K_SPHERE, f_i_wide, 1000000);
+    time_stage("insphere 60-bit integer form, random [0,1)", K_RANDOM, f_i_wide, 1000000);
+    time_stage("insphere gmp, unit sphere", K_SPHERE, f_i_gmp, 100000);
+    time_stage("insphere full chain, unit sphere", K_SPHERE, f_i_chain, 100000);
     time_stage("insphere gmp, random [0,1)", K_RANDOM, f_i_gmp, 300000);
     time_stage("insphere full chain, random [0,1)", K_RANDOM, f_i_chain, 5000000);
     time_stage("insphere full chain, 20^3 grid", K_GRID, f_i_chain, 5000000);
@@ -206,6 +252,7 @@ int main(int argc, char **argv)
     random_tuples(quick ? 20000 : 1000000);
     subgrid_all(quick ? 3 : 4);
     grid_sample(quick ? 20000 : 1000000);
+    sphere_sample(quick ? 2000 : 100000);
     if (!quick) timing();
     printf(consistent ? "counters consistent\n" : "COUNTERS INCONSISTENT\n");
     return consistent ? 0 : 1;

@@ -312,7 +312,7 @@ static void expect_degenerate(const char *name, const double *p, size_t n, int d
 
 static void test_degenerate_input_reports_its_dimension(void)
 {
-    double p[3 * 400];
+    double p[3 * 400] = {0};
     expect_degenerate("empty", p, 0, -1);
     for (int i = 0; i < 50; i++) p[3 * i] = p[3 * i + 1] = p[3 * i + 2] = 1.5;
     expect_degenerate("all equal", p, 50, 0);

@@ -256,7 +256,7 @@ static void test_predicates_equal_naive_mpq_reference_on_adversarial_families(vo
 {
     tu_rng r = {12345};
     int zeros = 0;
-    for (int it = 0; it < 3000; it++) {
+    for (int it = 0; it < 1800; it++) {
         int fam = it % 6;
         double p[5][3];
         for (int i = 0; i < 5; i++)

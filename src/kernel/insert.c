@@ -145,7 +145,9 @@ static gtet_status scan_for_conflict(kctx *c, const double *p, uint32_t *found)
     return GTET_ERR_INTERNAL;  /* a point outside every circumsphere and beyond no hull facet */
 }
 
-/* Visibility walk from c->last to a tet in conflict with p. */
+/* Visibility walk from c->last to a tet in conflict with p.  In a parallel pass it never
+ * enters a tet with a foreign vertex (*found = UINT32_MAX: defer), and it gives up instead of
+ * scanning when the step budget runs out (a scan would read other threads' tets). */
 static gtet_status walk(kctx *c, const double *p, uint32_t *found)
 {
     const kmesh *m = c->m;
@@ -169,6 +171,11 @@ static gtet_status walk(kctx *c, const double *p, uint32_t *found)
             if (4 * t + (uint32_t)f == entry) continue;
             if (orient_replaced(c, t, f, p) < 0) {
                 uint32_t h = m->tn[4 * (size_t)t + (size_t)f];
+                if (c->colour && !km_owned(c, h >> 2)) {
+                    *found = UINT32_MAX;
+                    c->walk_steps += step;
+                    return GTET_OK;
+                }
                 entry = h;
                 t = h >> 2;
                 moved = 1;
@@ -182,22 +189,57 @@ static gtet_status walk(kctx *c, const double *p, uint32_t *found)
         }
     }
     c->walk_steps += budget;
+    if (c->colour) {
+        *found = UINT32_MAX;
+        return GTET_OK;
+    }
     return scan_for_conflict(c, p, found);
 }
 
-static gtet_status take_slot(kctx *c, uint32_t *slot)
+/* Move the rest of this thread's block of fresh slots to its free list, marked deleted so
+ * that the compaction skips them. */
+gtet_status km_flush_block(kctx *c)
+{
+    size_t left = c->blk_end - c->blk_next;
+    if (left && grow((void **)&c->freelist, &c->free_cap, c->nfree + left, sizeof *c->freelist))
+        return GTET_ERR_OUT_OF_MEMORY;
+    for (size_t s = c->blk_next; s < c->blk_end; s++) {
+        c->m->tf[s] = KM_DELETED;
+        c->freelist[c->nfree++] = (uint32_t)s;
+    }
+    c->blk_next = c->blk_end = 0;
+    return GTET_OK;
+}
+
+/* Make sure `need` slots can be taken without failing: serially by growing the arrays, in a
+ * parallel pass by claiming blocks of fresh slots from the shared counter (the arrays never
+ * grow during a pass; GTET_ERR_TOO_LARGE then means "no room in this pass"). */
+static gtet_status ensure_room(kctx *c, size_t need)
 {
     kmesh *m = c->m;
-    if (c->nfree) {
-        *slot = c->freelist[--c->nfree];
-        return GTET_OK;
+    if (!c->colour) {
+        if (c->nfree >= need) return GTET_OK;
+        return km_reserve(m, m->nt + (need - c->nfree));
     }
-    if (m->nt >= m->cap) {
-        gtet_status s = km_reserve(m, m->nt + 1);
+    while (c->nfree + (c->blk_end - c->blk_next) < need) {
+        gtet_status s = km_flush_block(c);
         if (s != GTET_OK) return s;
+        size_t start;
+#pragma omp atomic capture
+        { start = m->nt; m->nt += KM_SLOT_BLOCK; }
+        if (start >= m->cap) return GTET_ERR_TOO_LARGE;
+        c->blk_next = start;
+        c->blk_end = start + KM_SLOT_BLOCK < m->cap ? start + KM_SLOT_BLOCK : m->cap;
     }
-    *slot = (uint32_t)m->nt++;
     return GTET_OK;
+}
+
+/* Take one slot; ensure_room() said there is one. */
+static inline uint32_t take_slot(kctx *c)
+{
+    if (c->nfree) return c->freelist[--c->nfree];
+    if (c->colour) return (uint32_t)c->blk_next++;
+    return (uint32_t)c->m->nt++;
 }
 
 /* Link the new tets' facets that contain the new point, through the edge table.  For new tet
@@ -307,15 +349,29 @@ static gtet_status adjacency_hash(kctx *c, const uint32_t *slots, size_t nb)
     return pending == 0 ? GTET_OK : GTET_ERR_INTERNAL;
 }
 
-gtet_status km_insert(kctx *c, uint32_t pid)
+/* Undo the DELETED marks of an abandoned cavity: nothing else was written. */
+static void rollback(kctx *c, size_t ncav)
+{
+    for (size_t i = 0; i < ncav; i++) c->m->tf[c->cav[i]] &= (uint8_t)~KM_DELETED;
+    c->conflicts++;
+}
+
+gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
 {
     kmesh *m = c->m;
     const double *p = km_pt(m, pid);
     uint32_t t0;
+    *deferred = 0;
     gtet_status s = walk(c, p, &t0);
     if (s != GTET_OK) return s;
+    if (t0 == UINT32_MAX) {
+        c->conflicts++;
+        *deferred = 1;
+        return GTET_OK;
+    }
     if (!conflicts(c, t0, p)) {
-        /* the located tet must conflict (see the top of this file); fall back to a scan */
+        /* the located tet must conflict (see the top of this file) */
+        if (c->colour) return GTET_ERR_INTERNAL;
         s = scan_for_conflict(c, p, &t0);
         if (s != GTET_OK) return s;
     }
@@ -332,13 +388,22 @@ gtet_status km_insert(kctx *c, uint32_t pid)
             uint32_t u = h >> 2;
             if (m->tf[u] & KM_DELETED) continue;
             if (conflicts(c, u, p)) {
-                if (grow((void **)&c->cav, &c->cav_cap, ncav + 1, sizeof *c->cav))
+                if (c->colour && !km_owned(c, u)) {
+                    rollback(c, ncav);
+                    *deferred = 1;
+                    return GTET_OK;
+                }
+                if (grow((void **)&c->cav, &c->cav_cap, ncav + 1, sizeof *c->cav)) {
+                    rollback(c, ncav);
                     return GTET_ERR_OUT_OF_MEMORY;
+                }
                 m->tf[u] |= KM_DELETED;
                 c->cav[ncav++] = u;
             } else {
-                if (grow((void **)&c->bnd, &c->bnd_cap, nb + 1, sizeof *c->bnd))
+                if (grow((void **)&c->bnd, &c->bnd_cap, nb + 1, sizeof *c->bnd)) {
+                    rollback(c, ncav);
                     return GTET_ERR_OUT_OF_MEMORY;
+                }
                 kbound *b = &c->bnd[nb++];
                 memcpy(b->v, m->tv + 4 * (size_t)t, sizeof b->v);
                 b->v[f] = pid;
@@ -346,26 +411,6 @@ gtet_status km_insert(kctx *c, uint32_t pid)
                 b->f = f;
             }
         }
-    }
-
-    /* slots: the cavity's own first, then the free list, then fresh ones */
-    if (grow((void **)&c->freelist, &c->free_cap, c->nfree + ncav, sizeof *c->freelist))
-        return GTET_ERR_OUT_OF_MEMORY;
-    for (size_t i = ncav; i-- > 0;) c->freelist[c->nfree++] = c->cav[i];
-    /* the slots array reuses the cavity buffer (its content was just copied) */
-    if (grow((void **)&c->cav, &c->cav_cap, nb, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
-    uint32_t *slots = c->cav;
-    for (size_t i = 0; i < nb; i++) {
-        s = take_slot(c, &slots[i]);
-        if (s != GTET_OK) return s;
-    }
-    for (size_t i = 0; i < nb; i++) {
-        const kbound *b = &c->bnd[i];
-        uint32_t n = slots[i];
-        memcpy(m->tv + 4 * (size_t)n, b->v, sizeof b->v);
-        m->tf[n] = 0;
-        m->tn[4 * (size_t)n + b->f] = b->outer;
-        m->tn[b->outer] = 4 * n + b->f;
     }
     /* A ghost whose finite facet is on the boundary becomes a finite tet (a,b,c,p).  The
      * consistency of the hull rule with the interior rule (proofs/perturbation.md) makes it
@@ -375,8 +420,43 @@ gtet_status km_insert(kctx *c, uint32_t pid)
         const kbound *b = &c->bnd[i];
         if (b->f == 3 && b->v[3] == pid &&
             pred_orient3d(km_pt(m, b->v[0]), km_pt(m, b->v[1]), km_pt(m, b->v[2]), p,
-                          &c->cnt) <= 0)
+                          &c->cnt) <= 0) {
+            rollback(c, ncav);
             return GTET_ERR_INTERNAL;
+        }
+    }
+
+    /* slots: the cavity's own first, then the free list, then fresh ones */
+    if (grow((void **)&c->freelist, &c->free_cap, c->nfree + ncav, sizeof *c->freelist)) {
+        rollback(c, ncav);
+        return GTET_ERR_OUT_OF_MEMORY;
+    }
+    s = ensure_room(c, nb > ncav ? nb - ncav : 0);
+    if (s != GTET_OK) {
+        rollback(c, ncav);
+        if (c->colour && s == GTET_ERR_TOO_LARGE) {  /* no room left in this pass */
+            c->out_of_room = 1;
+            *deferred = 1;
+            return GTET_OK;
+        }
+        return s;
+    }
+    if (grow((void **)&c->freelist, &c->free_cap, c->nfree + ncav, sizeof *c->freelist) ||
+        grow((void **)&c->cav, &c->cav_cap, nb, sizeof *c->cav)) {
+        rollback(c, ncav);
+        return GTET_ERR_OUT_OF_MEMORY;
+    }
+    for (size_t i = ncav; i-- > 0;) c->freelist[c->nfree++] = c->cav[i];
+    /* the slots array reuses the cavity buffer (its content is now in the free list) */
+    uint32_t *slots = c->cav;
+    for (size_t i = 0; i < nb; i++) slots[i] = take_slot(c);
+    for (size_t i = 0; i < nb; i++) {
+        const kbound *b = &c->bnd[i];
+        uint32_t n = slots[i];
+        memcpy(m->tv + 4 * (size_t)n, b->v, sizeof b->v);
+        m->tf[n] = 0;
+        m->tn[4 * (size_t)n + b->f] = b->outer;
+        m->tn[b->outer] = 4 * n + b->f;
     }
     int ok = 0;
     s = adjacency_fast(c, slots, nb, &ok);

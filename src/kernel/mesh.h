@@ -26,6 +26,7 @@
 #define KM_DELETED 1u
 #define KM_MAX_SLOTS (UINT32_C(1) << 30)
 #define KM_LOC_MAX 64   /* cavity-local vertex ids for the fast adjacency table */
+#define KM_SLOT_BLOCK 4096 /* fresh slots a thread claims at once in a parallel pass */
 
 typedef struct kmesh {
     const double *v;    /* 3 doubles per vertex */
@@ -61,6 +62,14 @@ typedef struct kctx {
     uint32_t table[KM_LOC_MAX * KM_LOC_MAX]; /* edge -> facet handle, kept all-empty */
     uint64_t *htab;     /* fallback edge table for cavities with > 63 boundary vertices */
     size_t htab_cap;
+    /* parallel passes (parallel.c): vertex colours, this thread's colour, a block of fresh
+     * slots claimed from the shared counter.  colour == NULL: serial, no ownership checks,
+     * the arrays may grow. */
+    const uint8_t *colour;
+    uint8_t mine;
+    int out_of_room;    /* a parallel insertion was deferred for lack of slots */
+    size_t blk_next, blk_end;
+    uint64_t conflicts; /* insertions rolled back on a colour conflict */
 } kctx;
 
 static inline int km_is_ghost(const kmesh *m, uint32_t t) { return m->tv[4 * (size_t)t + 3] == KM_GHOST; }
@@ -76,7 +85,21 @@ void kctx_free(kctx *c);
 /* Build the first tet on vertices a,b,c,d (not coplanar) and its four ghosts. */
 gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t d);
 
-/* Insert vertex p (not yet in the mesh, distinct from every vertex in it). */
-gtet_status km_insert(kctx *c, uint32_t p);
+/* Insert vertex p (not yet in the mesh, distinct from every vertex in it).  In a parallel
+ * pass (c->colour set) the insertion is abandoned, with nothing written, when the walk or the
+ * cavity meets a tet with a vertex of another colour or no slot is left: *deferred = 1. */
+gtet_status km_insert(kctx *c, uint32_t p, int *deferred);
+
+/* End of a parallel pass: the unused fresh slots of this thread go to its free list. */
+gtet_status km_flush_block(kctx *c);
+
+/* In a parallel pass: is every finite vertex of tet t of this thread's colour? */
+static inline int km_owned(const kctx *c, uint32_t t)
+{
+    const uint32_t *v = c->m->tv + 4 * (size_t)t;
+    const uint8_t *col = c->colour;
+    return col[v[0]] == c->mine && col[v[1]] == c->mine && col[v[2]] == c->mine &&
+           (v[3] == KM_GHOST || col[v[3]] == c->mine);
+}
 
 #endif

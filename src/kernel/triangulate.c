@@ -11,6 +11,7 @@
 #include "../sort/sort.h"
 #include "finalize.h"
 #include "mesh.h"
+#include "parallel.h"
 #include "output.h"
 #include "validate.h"
 
@@ -115,16 +116,33 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
         hint = KM_MAX_SLOTS;
     }
     kmesh m;
-    kctx c;
     s = km_init(&m, res->vertices, nv, hint);
-    kctx_init(&c, &m, 1);
+    if (threads > 255) threads = 255;
+    kctx *ctx = calloc((size_t)threads, sizeof *ctx);
+    kpar P;
+    memset(&P, 0, sizeof P);
+    if (!ctx) s = GTET_ERR_OUT_OF_MEMORY;
+    for (int k = 0; ctx && k < threads; k++) kctx_init(&ctx[k], &m, (uint64_t)k + 1);
+    if (s == GTET_OK) s = kpar_init(&P, &m, ctx, threads);
     if (s == GTET_OK)
-        s = km_first_tet(&c, order[pos[0]], order[pos[1]], order[pos[2]], order[pos[3]]);
-    size_t every = nv / 200 + 1;
-    for (size_t i = 0; i < nv && s == GTET_OK; i++) {
+        s = km_first_tet(&ctx[0], order[pos[0]], order[pos[1]], order[pos[2]], order[pos[3]]);
+    /* the rounds, without the four vertices of the first tet */
+    size_t w = 0, r = 0;
+    for (size_t i = 0; i < nv; i++) {
+        while (r < (size_t)nrounds && i == round_end[r]) round_end[r++] = w;
         if (i == pos[0] || i == pos[1] || i == pos[2] || i == pos[3]) continue;
-        s = km_insert(&c, order[i]);
-        if (opts.progress && i % every == 0) opts.progress(opts.progress_user, (double)i / (double)nv);
+        order[w++] = order[i];
+    }
+    while (r < (size_t)nrounds) round_end[r++] = w;
+    res->rounds = calloc((size_t)(nrounds > 0 ? nrounds : 1), sizeof *res->rounds);
+    if (!res->rounds && s == GTET_OK) s = GTET_ERR_OUT_OF_MEMORY;
+    P.progress = opts.progress;
+    P.progress_user = opts.progress_user;
+    P.total = nv;
+    P.done = 4;
+    for (int k = 0; k < nrounds && s == GTET_OK; k++) {
+        size_t b = k ? round_end[k - 1] : 0;
+        s = kpar_round(&P, order + b, round_end[k] - b, &res->rounds[k]);
     }
     free(order);
     if (opts.progress && s == GTET_OK) opts.progress(opts.progress_user, 1.0);
@@ -132,10 +150,15 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     size_t slots_peak = m.cap;
     if (s == GTET_OK) s = km_finalize(&m, &res->tets, &res->neighbors, &res->n_tets, &res->n_hull_facets);
     add_counters(&res->stats.pred, &cnt0);
-    add_counters(&res->stats.pred, &c.cnt);
-    res->stats.tets_created = c.tets_created + 5;
-    res->stats.walk_steps = c.walk_steps;
-    kctx_free(&c);
+    res->stats.tets_created = 5;
+    for (int k = 0; ctx && k < threads; k++) {
+        add_counters(&res->stats.pred, &ctx[k].cnt);
+        res->stats.tets_created += ctx[k].tets_created;
+        res->stats.walk_steps += ctx[k].walk_steps;
+        kctx_free(&ctx[k]);
+    }
+    free(ctx);
+    kpar_free(&P);
     km_free(&m);
     if (s != GTET_OK) {
         gtet_mesh_free(&res);
@@ -148,24 +171,12 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     st->seconds_insert = t_inserted - t_sorted;
     st->seconds_finalize = t_done - t_inserted;
     st->seconds_total = t_done - t_start;
-    st->threads = 1;
+    st->threads = threads;
     st->num_rounds = nrounds;
     /* working mesh: 16 B vertex ids + 16 B neighbours + 1 flag byte per slot, plus the
      * vertices (24 B each) and their 1-byte cavity-local ids */
     st->peak_bytes = slots_peak * 33 + nv * 25 + n * 4;
     st->bytes_per_tet = res->n_tets ? (slots_peak * 33 + nv * 25) / res->n_tets : 0;
-    res->rounds = calloc((size_t)(nrounds > 0 ? nrounds : 1), sizeof *res->rounds);
-    if (!res->rounds) {
-        gtet_mesh_free(&res);
-        return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating statistics");
-    }
-    for (int r = 0; r < nrounds; r++) {
-        size_t b = r ? round_end[r - 1] : 0;
-        res->rounds[r].points = round_end[r] - b;
-        res->rounds[r].tried = res->rounds[r].inserted = round_end[r] - b;
-        res->rounds[r].threads = 1;
-        res->rounds[r].passes = 1;
-    }
     if (opts.check) {
         gtet_check_report rep;
         s = gtet_check(res, xyz, n, 0, &rep);

@@ -54,11 +54,14 @@ static void split_double(double x, double *m, int *e)
     *e = ex;
 }
 
-/* Load k points (k <= 5) as integers with one common power-of-two scale (see the top). */
+#define ORC_MAX_LOAD 16
+
+/* Load k points (k <= ORC_MAX_LOAD) as integers with one common power-of-two scale (see the
+ * top). */
 static void load(zpt *z, const double *const *p, int k)
 {
-    double m[5][3];
-    int e[5][3];
+    double m[ORC_MAX_LOAD][3];
+    int e[ORC_MAX_LOAD][3];
     int emin = INT_MAX;
     for (int i = 0; i < k; i++)
         for (int j = 0; j < 3; j++) {
@@ -402,5 +405,86 @@ int orc_ghost_conflict(const double *a, const double *b, const double *c, const 
     if (s == 0)
         s = z_coplanar_orientation(&z[0], &z[1], &z[2]) == 0 ? 0 : z_circle_sos(z, p);
     unload(z, 4);
+    return s;
+}
+
+/* sign det[B-A; C-A; D-A] where A, B, C, D are centroids of cnt[0..3] (1..4) points listed
+ * one after the other in pts.  Each centroid is represented exactly as 12 * centroid =
+ * (12/cnt) * (sum of its points); scaling all four by 12 keeps the sign (degree 3). */
+int orc_orient3d_avg(const double *const *pts, const int cnt[4])
+{
+    int k = 0;
+    for (int i = 0; i < 4; i++) {
+        if (cnt[i] < 1 || cnt[i] > 4) return 0;
+        k += cnt[i];
+    }
+    zpt z[ORC_MAX_LOAD], c[4];
+    load(z, pts, k);
+    int at = 0;
+    for (int i = 0; i < 4; i++) {
+        for (int j = 0; j < 3; j++) {
+            mpz_init(c[i].c[j]);
+            for (int u = 0; u < cnt[i]; u++) mpz_add(c[i].c[j], c[i].c[j], z[at + u].c[j]);
+            mpz_mul_ui(c[i].c[j], c[i].c[j], (unsigned long)(12 / cnt[i]));
+        }
+        at += cnt[i];
+    }
+    int s = z_orient3d(&c[0], &c[1], &c[2], &c[3]);
+    unload(c, 4);
+    unload(z, k);
+    return s;
+}
+
+/* One double as an integer at the global scale 2^-emin. */
+static void scaled(mpz_t r, double x, int emin)
+{
+    double m;
+    int e;
+    split_double(x, &m, &e);
+    mpz_set_d(r, m);
+    if (m != 0.0) mpz_mul_2exp(r, r, (mp_bitcnt_t)(e - emin));
+}
+
+/* Sum over the tets of det[b-a; c-a; d-a] (6 * volume) compared with the sum over the hull
+ * facets of det[a; b; c] (6 * the volume enclosed, by the divergence theorem, for outward
+ * oriented facets), both exact at one global power-of-two scale: returns the sign of
+ * (tets - hull), 0 when equal. */
+int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
+                       const uint32_t *hull, size_t nh)
+{
+    int emin = INT_MAX;
+    for (size_t i = 0; i < 3 * nv; i++) {
+        double m;
+        int e;
+        split_double(vertices[i], &m, &e);
+        if (m != 0.0 && e < emin) emin = e;
+    }
+    if (emin == INT_MAX) emin = 0;
+    mpz_t sum, det, p[4][3], d[9];
+    mpz_inits(sum, det, NULL);
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 3; j++) mpz_init(p[i][j]);
+    for (int i = 0; i < 9; i++) mpz_init(d[i]);
+    mpz_srcptr m[9];
+    for (int i = 0; i < 9; i++) m[i] = d[i];
+    for (size_t t = 0; t < nt; t++) {
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 3; j++) scaled(p[i][j], vertices[3 * (size_t)tets[4 * t + i] + j], emin);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) mpz_sub(d[3 * i + j], p[i + 1][j], p[0][j]);
+        det3(det, m);
+        mpz_add(sum, sum, det);
+    }
+    for (size_t h = 0; h < nh; h++) {
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) scaled(d[3 * i + j], vertices[3 * (size_t)hull[3 * h + i] + j], emin);
+        det3(det, m);
+        mpz_sub(sum, sum, det);
+    }
+    int s = mpz_sgn(sum);
+    mpz_clears(sum, det, NULL);
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 3; j++) mpz_clear(p[i][j]);
+    for (int i = 0; i < 9; i++) mpz_clear(d[i]);
     return s;
 }

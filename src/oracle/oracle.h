@@ -9,6 +9,9 @@
 #ifndef GTET_ORACLE_H
 #define GTET_ORACLE_H
 
+#include <stddef.h>
+#include <stdint.h>
+
 /* sign det[b-a; c-a; d-a] */
 int orc_orient3d(const double *a, const double *b, const double *c, const double *d);
 /* +1: e strictly inside the sphere of (a,b,c,d) when orient3d(a,b,c,d) > 0; flips with it. */
@@ -32,5 +35,13 @@ int orc_coplanar_orientation(const double *a, const double *b, const double *c);
 /* CGAL's perturbed coplanar_side_of_bounded_circle(a,b,c,e) for e in the plane of a,b,c:
  * +1 inside the perturbed circle, -1 outside; 0 when a,b,c are collinear. */
 int orc_coplanar_circle_sos(const double *a, const double *b, const double *c, const double *e);
+/* sign det[B-A; C-A; D-A] for the centroids A, B, C, D of cnt[0], .., cnt[3] points (1..4
+ * each) given one after the other in pts (exact rational centroids). */
+int orc_orient3d_avg(const double *const *pts, const int cnt[4]);
+/* Sign of (sum over tets of det[b-a; c-a; d-a]) - (sum over hull facets (a,b,c) of
+ * det[a; b; c]), exact: 0 when the tets' total volume equals the volume the outward-oriented
+ * hull facets enclose.  tets: 4*nt ids, hull: 3*nh ids into vertices (3*nv doubles). */
+int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
+                       const uint32_t *hull, size_t nh);
 
 #endif

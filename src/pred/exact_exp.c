@@ -7,14 +7,15 @@
  *     is exact as a double (checked with Two-Diff tails == 0; true on most near-degenerate
  *     inputs of moderate spread): the filter's formula evaluated with expansions.  Lengths:
  *     2x2 minor <= 4, 3x3 <= 24, lift <= 6, lift*3x3 <= 288, insphere <= 1152, orient3d <= 24.
- *   - raw form otherwise, on the untranslated coordinates:
+ *   - otherwise, orient3d only: raw form, on the untranslated coordinates,
  *       orient3d(p,q,r,s) = T(q,r,s) - T(p,r,s) + T(p,q,s) - T(p,q,r), T = det3 of raw rows
- *         (cofactor expansion of det[[p,1],[q,1],[r,1],[s,1]] = -orient3d along the 1-column)
- *       insphere(a,b,c,d,e) = sum_i (-1)^(i+1) |P_i|^2 O(points other than P_i), i = 0..4
- *         (insphere = -det5[(P_i, |P_i|^2, 1)]: subtracting row e and the column operation
- *         w -= 2 x.e - |e|^2 turn det5 into det4 of the translated rows; expanding det5 along
- *         the w column gives the sum, with det4[(p,1),...] = -orient3d).
- *     Lengths: T <= 24, O <= 96, |P|^2 * O <= 1152, insphere <= 5760.
+ *         (cofactor expansion of det[[p,1],[q,1],[r,1],[s,1]] = -orient3d along the 1-column);
+ *     lengths: T <= 24, orient3d <= 96.  For insphere with an inexact translation we return
+ *     "not applicable" and the caller uses GMP: the filter's formula on two-component
+ *     translated coordinates (with the raw 5x5 form, lifts times orientations, as fallback)
+ *     cost 2.3x the GMP stage on points rounded onto the unit sphere (pred_stage_counts
+ *     --timing, commit history), so it is not kept.  The orient3d raw form is kept: 1.5 us
+ *     against 2.4 us for GMP on the same tuples.
  * Each 3x3 minor, lift and orientation is compressed (exp_compress) before it is multiplied:
  * the value is unchanged and the products stay short (the bounds above are worst cases).
  * The band guarantees that every Two-Product is exact (expansion.h), so the result is exact.
@@ -192,57 +193,13 @@ static int insphere_translated(double (*v)[3])
     return exp_sign(n, h);
 }
 
-static int insphere_raw(const double *x)
-{
-    const double *pt[5] = {x, x + 3, x + 6, x + 9, x + 12};
-    double m[5][5][4];
-    int lm[5][5];
-    for (int i = 0; i < 5; i++)
-        for (int j = i + 1; j < 5; j++)
-            lm[i][j] = exp_two_two_diff(pt[i][0], pt[j][1], pt[j][0], pt[i][1], m[i][j]);
-    /* T[i][j][k], i<j<k: det3 of raw rows */
-    double T[5][5][5][24];
-    int lt[5][5][5];
-    for (int i = 0; i < 5; i++)
-        for (int j = i + 1; j < 5; j++)
-            for (int k = j + 1; k < 5; k++)
-                lt[i][j][k] = det3(pt[i], pt[j], pt[k], lm[j][k], m[j][k], lm[i][k], m[i][k],
-                                   lm[i][j], m[i][j], T[i][j][k]);
-    double acc[2][5760];
-    int lacc = 0, cur = 0;
-    for (int l = 0; l < 5; l++) {
-        int o[4], r = 0;
-        for (int k = 0; k < 5; k++)
-            if (k != l) o[r++] = k;
-        /* O = T(q,r,s) - T(p,r,s) + T(p,q,s) - T(p,q,r) for the others p<q<r<s */
-        double n1[24], n3[24], s1[48], s2[48], O[96];
-        int l0 = lt[o[1]][o[2]][o[3]], l1 = lt[o[0]][o[2]][o[3]];
-        int l2 = lt[o[0]][o[1]][o[3]], l3 = lt[o[0]][o[1]][o[2]];
-        for (int i = 0; i < l1; i++) n1[i] = -T[o[0]][o[2]][o[3]][i];
-        for (int i = 0; i < l3; i++) n3[i] = -T[o[0]][o[1]][o[2]][i];
-        int k1 = exp_sum(l0, T[o[1]][o[2]][o[3]], l1, n1, s1);
-        int k2 = exp_sum(l2, T[o[0]][o[1]][o[3]], l3, n3, s2);
-        int lo = exp_sum(k1, s1, k2, s2, O);
-        lo = exp_compress(lo, O, O);
-        double w[6], term[1152], tmp[1152], tmp2[192];
-        int lw = lift(pt[l], w);
-        int lterm = exp_mul(lo, O, lw, w, term, tmp, tmp2);
-        if ((l & 1) == 0) exp_negate(lterm, term); /* sign (-1)^(l+1) */
-        lacc = exp_sum(lacc, acc[cur], lterm, term, acc[cur ^ 1]);
-        cur ^= 1;
-    }
-    return exp_sign(lacc, acc[cur]);
-}
-
 int pred_insphere_exp(const double *a, const double *b, const double *c, const double *d,
                       const double *e, int *sign)
 {
     const double *pts[5] = {a, b, c, d, e};
     double x[15], v[4][3];
     if (!pred_band_scale(pts, 5, x)) return 0;
-    if (exact_translate(x, 5, 4, v))
-        *sign = insphere_translated(v);
-    else
-        *sign = insphere_raw(x);
+    if (!exact_translate(x, 5, 4, v)) return 0; /* GMP is faster there (see file comment) */
+    *sign = insphere_translated(v);
     return 1;
 }

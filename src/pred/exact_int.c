@@ -1,5 +1,7 @@
-/* exact_int.c -- exact small-integer stage: when every coordinate is an integer of small
- * magnitude, the determinants are evaluated exactly in int64_t / __int128.
+/* exact_int.c -- exact integer stages: (1) when every coordinate is an integer of small
+ * magnitude, the determinants are evaluated exactly in int64_t / __int128; (2) the "wide"
+ * stage at the end of the file: the exact integer form of any tuple whose bits span <= 60
+ * binades, in fixed-width 128/192/320-bit two's complement.
  *
  * This is the common exact case on grid inputs (on a 100^3 grid almost every insphere is
  * exactly 0), so it must be cheap: one range+integrality test per coordinate, then the
@@ -16,6 +18,7 @@
 #include "pred_internal.h"
 
 #include <stdint.h>
+#include <string.h>
 
 __extension__ typedef __int128 i128; /* GCC/Clang extension on 64-bit targets */
 
@@ -136,5 +139,178 @@ int pred_lifted2d_int(const double *a, const double *b, const double *c, const d
         det += (i128)lift * minor;
     }
     *sign = sign128(det);
+    return 1;
+}
+
+/* ---- wide integer form ------------------------------------------------------------------
+ * Any finite double is M * 2^k with M an odd integer (or 0).  With K the smallest k over the
+ * tuple, every coordinate is the integer M * 2^(k-K) times the common factor 2^K, and the
+ * sign of the homogeneous insphere is that of the integer determinant.  When every such
+ * integer is below 2^60 (a tuple whose bits span at most 60 binades, at any scale: points
+ * rounded onto a sphere, scaled grids, 2^-1074 or 2^1000 lattices), the evaluation fits fixed
+ * widths: differences < 2^61 (int64), 2x2 minors < 2^123 and lifts < 3*2^122 (128 bits),
+ * 3x3 minors < 3*2^61*2^123 < 2^186 (192-bit two's complement), lift*3x3 < 2^310 and the sum
+ * of four < 2^312 (320-bit two's complement).  Every operation below is exact in those widths.
+ */
+__extension__ typedef unsigned __int128 u128;
+
+typedef struct { uint64_t w[3]; } i192;
+typedef struct { uint64_t w[5]; } i320;
+
+static void neg_limbs(uint64_t *w, int n)
+{
+    uint64_t carry = 1;
+    for (int i = 0; i < n; i++) {
+        uint64_t v = ~w[i] + carry;
+        carry = (carry && v == 0);
+        w[i] = v;
+    }
+}
+
+static void add_limbs(uint64_t *r, const uint64_t *a, int n)
+{
+    u128 carry = 0;
+    for (int i = 0; i < n; i++) {
+        u128 t = (u128)r[i] + a[i] + carry;
+        r[i] = (uint64_t)t;
+        carry = t >> 64;
+    }
+}
+
+/* r = s * z * m, |z| < 2^61, |m| < 2^123, s = +-1 */
+static i192 mul_z_minor(int64_t z, i128 m, int s)
+{
+    i192 r;
+    int neg = (z < 0) != (m < 0);
+    if (s < 0) neg = !neg;
+    uint64_t az = (uint64_t)(z < 0 ? -z : z);
+    u128 am = (u128)(m < 0 ? -m : m);
+    u128 p0 = (u128)az * (uint64_t)am, p1 = (u128)az * (uint64_t)(am >> 64);
+    u128 t = (p0 >> 64) + (uint64_t)p1;
+    r.w[0] = (uint64_t)p0;
+    r.w[1] = (uint64_t)t;
+    r.w[2] = (uint64_t)(t >> 64) + (uint64_t)(p1 >> 64);
+    if (neg) neg_limbs(r.w, 3);
+    return r;
+}
+
+/* r = s * lift * d, lift < 2^124 unsigned, d signed 192-bit, s = +-1 */
+static i320 mul_lift_det3(u128 lift, i192 d, int s)
+{
+    i320 r = {{0, 0, 0, 0, 0}};
+    int neg = (d.w[2] >> 63) != 0;
+    if (neg) neg_limbs(d.w, 3);
+    if (s < 0) neg = !neg;
+    const uint64_t l[2] = {(uint64_t)lift, (uint64_t)(lift >> 64)};
+    for (int i = 0; i < 2; i++) {
+        u128 carry = 0;
+        for (int j = 0; j < 3; j++) {
+            u128 t = (u128)l[i] * d.w[j] + r.w[i + j] + carry;
+            r.w[i + j] = (uint64_t)t;
+            carry = t >> 64;
+        }
+        r.w[i + 3] = (uint64_t)carry;
+    }
+    if (neg) neg_limbs(r.w, 5);
+    return r;
+}
+
+/* integer form of n coordinates below 2^60 after removing the common power of two */
+static int wide_form(const double *const *pts, int n, int64_t (*q)[3])
+{
+    int64_t m[15];
+    int k[15], K = 1 << 20;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++) {
+            uint64_t u;
+            memcpy(&u, &pts[i][j], sizeof u);
+            int be = (int)((u >> 52) & 0x7ff);
+            uint64_t mant = (u & ((UINT64_C(1) << 52) - 1)) | (be ? UINT64_C(1) << 52 : 0);
+            int idx = 3 * i + j;
+            if (be == 0x7ff) return 0; /* not finite */
+            if (mant == 0) {
+                m[idx] = 0;
+                k[idx] = 0;
+                continue;
+            }
+            int tz = __builtin_ctzll(mant);
+            mant >>= tz;
+            k[idx] = (be ? be - 1075 : -1074) + tz; /* x = mant * 2^k, mant odd */
+            m[idx] = (u >> 63) ? -(int64_t)mant : (int64_t)mant;
+            if (k[idx] < K) K = k[idx];
+        }
+    for (int idx = 0; idx < 3 * n; idx++) {
+        if (m[idx] == 0) {
+            q[idx / 3][idx % 3] = 0;
+            continue;
+        }
+        int bits = 64 - __builtin_clzll((uint64_t)(m[idx] < 0 ? -m[idx] : m[idx]));
+        int sh = k[idx] - K;
+        if (sh > 60 || bits + sh > 60) return 0;
+        q[idx / 3][idx % 3] = m[idx] * ((int64_t)1 << sh);
+    }
+    return 1;
+}
+
+int pred_insphere_wide(const double *a, const double *b, const double *c, const double *d,
+                       const double *e, int *sign)
+{
+    const double *pts[5] = {a, b, c, d, e};
+    int64_t q[5][3], p[4][3];
+    if (!wide_form(pts, 5, q)) return 0;
+    for (int k = 0; k < 4; k++)
+        for (int j = 0; j < 3; j++) p[k][j] = q[k][j] - q[4][j];
+    const int64_t *A = p[0], *B = p[1], *C = p[2], *D = p[3];
+    i128 ab = (i128)A[0] * B[1] - (i128)B[0] * A[1], bc = (i128)B[0] * C[1] - (i128)C[0] * B[1];
+    i128 cd = (i128)C[0] * D[1] - (i128)D[0] * C[1], da = (i128)D[0] * A[1] - (i128)A[0] * D[1];
+    i128 ac = (i128)A[0] * C[1] - (i128)C[0] * A[1], bd = (i128)B[0] * D[1] - (i128)D[0] * B[1];
+    /* same cofactors as the filter: abc = az bc - bz ac + cz ab, ... */
+    i192 abc = mul_z_minor(A[2], bc, 1), bcd = mul_z_minor(B[2], cd, 1);
+    i192 cda = mul_z_minor(C[2], da, 1), dab = mul_z_minor(D[2], ab, 1), t;
+    t = mul_z_minor(B[2], ac, -1), add_limbs(abc.w, t.w, 3);
+    t = mul_z_minor(C[2], ab, 1), add_limbs(abc.w, t.w, 3);
+    t = mul_z_minor(C[2], bd, -1), add_limbs(bcd.w, t.w, 3);
+    t = mul_z_minor(D[2], bc, 1), add_limbs(bcd.w, t.w, 3);
+    t = mul_z_minor(D[2], ac, 1), add_limbs(cda.w, t.w, 3);
+    t = mul_z_minor(A[2], cd, 1), add_limbs(cda.w, t.w, 3);
+    t = mul_z_minor(A[2], bd, 1), add_limbs(dab.w, t.w, 3);
+    t = mul_z_minor(B[2], da, 1), add_limbs(dab.w, t.w, 3);
+    u128 w[4];
+    for (int k = 0; k < 4; k++)
+        w[k] = (u128)((i128)p[k][0] * p[k][0]) + (u128)((i128)p[k][1] * p[k][1]) +
+               (u128)((i128)p[k][2] * p[k][2]);
+    /* det = (cw*dab - dw*abc) + (aw*bcd - bw*cda) */
+    i320 r = mul_lift_det3(w[2], dab, 1), s;
+    s = mul_lift_det3(w[3], abc, -1), add_limbs(r.w, s.w, 5);
+    s = mul_lift_det3(w[0], bcd, 1), add_limbs(r.w, s.w, 5);
+    s = mul_lift_det3(w[1], cda, -1), add_limbs(r.w, s.w, 5);
+    if (r.w[4] >> 63) {
+        *sign = -1;
+    } else {
+        *sign = (r.w[0] | r.w[1] | r.w[2] | r.w[3] | r.w[4]) != 0;
+    }
+    return 1;
+}
+
+/* orient3d on the same integer form: differences < 2^61, minors < 2^123, |det| < 3*2^184. */
+int pred_orient3d_wide(const double *a, const double *b, const double *c, const double *d,
+                       int *sign)
+{
+    const double *pts[4] = {a, b, c, d};
+    int64_t q[4][3], p[3][3];
+    if (!wide_form(pts, 4, q)) return 0;
+    for (int k = 0; k < 3; k++)
+        for (int j = 0; j < 3; j++) p[k][j] = q[k + 1][j] - q[0][j];
+    /* det = px*m1 + py*m2 + pz*m3 as in the filter */
+    i128 m1 = (i128)p[1][1] * p[2][2] - (i128)p[1][2] * p[2][1];
+    i128 m2 = (i128)p[1][2] * p[2][0] - (i128)p[1][0] * p[2][2];
+    i128 m3 = (i128)p[1][0] * p[2][1] - (i128)p[1][1] * p[2][0];
+    i192 r = mul_z_minor(p[0][0], m1, 1), t;
+    t = mul_z_minor(p[0][1], m2, 1), add_limbs(r.w, t.w, 3);
+    t = mul_z_minor(p[0][2], m3, 1), add_limbs(r.w, t.w, 3);
+    if (r.w[2] >> 63)
+        *sign = -1;
+    else
+        *sign = (r.w[0] | r.w[1] | r.w[2]) != 0;
     return 1;
 }

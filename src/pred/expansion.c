@@ -33,29 +33,40 @@ int exp_two_two_diff(double a, double b, double c, double d, double *h)
 int exp_sum(int elen, const double *e, int flen, const double *f, double *h)
 {
     int i = 0, j = 0, n = 0;
-    double q, hh, g;
-    if (elen == 0) {
-        for (int k = 0; k < flen; k++) h[k] = f[k];
-        return flen;
+    double q, hh;
+    if (elen == 0 || flen == 0) {
+        const double *src = elen ? e : f;
+        int len = elen ? elen : flen;
+        for (int k = 0; k < len; k++) h[k] = src[k];
+        return len;
     }
-    if (flen == 0) {
-        for (int k = 0; k < elen; k++) h[k] = e[k];
-        return elen;
+    /* |f_j| > |e_i|  <=>  (f_j > e_i) == (f_j > -e_i)  (no fabs, one branch) */
+    double en = e[0], fn = f[0];
+    if ((fn > en) == (fn > -en)) {
+        q = en;
+        en = ++i < elen ? e[i] : 0;
+    } else {
+        q = fn;
+        fn = ++j < flen ? f[j] : 0;
     }
-#define PRED_NEXT_(out)                                                                    \
-    do {                                                                                   \
-        if (j >= flen || (i < elen && (e[i] < 0 ? -e[i] : e[i]) <= (f[j] < 0 ? -f[j] : f[j]))) \
-            out = e[i++];                                                                  \
-        else                                                                               \
-            out = f[j++];                                                                  \
-    } while (0)
-    PRED_NEXT_(q);
-    while (i < elen || j < flen) {
-        PRED_NEXT_(g);
-        exp_two_sum(q, g, &q, &hh);
+    while (i < elen && j < flen) {
+        if ((fn > en) == (fn > -en)) {
+            exp_two_sum(q, en, &q, &hh);
+            en = ++i < elen ? e[i] : 0;
+        } else {
+            exp_two_sum(q, fn, &q, &hh);
+            fn = ++j < flen ? f[j] : 0;
+        }
         if (hh != 0) h[n++] = hh;
     }
-#undef PRED_NEXT_
+    for (; i < elen; i++) {
+        exp_two_sum(q, e[i], &q, &hh);
+        if (hh != 0) h[n++] = hh;
+    }
+    for (; j < flen; j++) {
+        exp_two_sum(q, f[j], &q, &hh);
+        if (hh != 0) h[n++] = hh;
+    }
     if (q != 0 || n == 0) h[n++] = q;
     if (n == 1 && h[0] == 0) n = 0;
     return n;

@@ -1,5 +1,7 @@
-/* insphere.c -- insphere as one chain: filter (filter.h) -> small integers -> expansions ->
- * GMP (pred_internal.h); same argument as orient3d.c. */
+/* insphere.c -- insphere as one chain: filter (filter.h) -> small integers -> 60-bit integer
+ * form (fixed-width, exact_int.c) -> expansions -> GMP (pred_internal.h); same argument as
+ * orient3d.c.  The integer form decides near-co-spherical non-integer tuples (points rounded
+ * onto a sphere: the filter decides none of them) without GMP's allocations. */
 #include "filter.h"
 #include "pred_internal.h"
 
@@ -8,7 +10,7 @@ int pred_insphere_exact(const double *a, const double *b, const double *c, const
 {
     int s;
     cnt->insphere_exact++;
-    if (pred_insphere_int(a, b, c, d, e, &s)) {
+    if (pred_insphere_int(a, b, c, d, e, &s) || pred_insphere_wide(a, b, c, d, e, &s)) {
         cnt->insphere_int++;
     } else if (!pred_insphere_exp(a, b, c, d, e, &s)) {
         cnt->insphere_gmp++;

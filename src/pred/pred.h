@@ -2,9 +2,9 @@
  *
  * Every sign the kernel uses comes from here.  Each predicate is one readable chain:
  *   1. semi-static filter in double on translated coordinates (constants certified in proofs/),
- *   2. exact stage: small-integer path, expansion arithmetic (Shewchuk 1997, our own code),
- *      and GMP mpz on the exact integer form of the doubles when magnitudes leave the range
- *      where expansions are exact,
+ *   2. exact stage: small-integer path (int64/__int128), the 60-bit integer form of the tuple
+ *      in fixed-width 128/192/320-bit arithmetic, expansion arithmetic (Shewchuk 1997, our own
+ *      code) in a magnitude band, and GMP mpz on the exact integer form for everything else,
  *   3. symbolic perturbation of exact zeros (lexicographic rank, CGAL's rule; see
  *      proofs/perturbation.md).
  * Counters are passed explicitly (one record per worker thread): no global mutable state.

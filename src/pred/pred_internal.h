@@ -4,8 +4,9 @@
  * Every exact stage returns 1 and stores the exact sign in *sign when it applies to its input,
  * 0 when the input is outside its domain (the caller then tries the next stage):
  *   _int : all coordinates are integers below a bound (derived in exact_int.c)
+ *   _wide: the exact integer form of the tuple (one common power of two removed) fits 60 bits
  *   _exp : expansions; all nonzero coordinates fit the band after a power-of-two scaling
- *          (pred_band_scale)
+ *          (pred_band_scale); insphere also needs exactly representable translations p - e
  *   _gmp : always applies (returns the sign directly).
  * Axis pairs (u, w) select a coordinate plane: (0,1) xy, (1,2) yz, (0,2) xz.
  */
@@ -31,6 +32,13 @@ int pred_orient3d_int(const double *a, const double *b, const double *c, const d
                       int *sign);
 int pred_insphere_int(const double *a, const double *b, const double *c, const double *d,
                       const double *e, int *sign);
+/* orient3d / insphere on the exact integer form of the tuple (common power of two removed)
+ * when every integer is below 2^60: 64/128/192(/320)-bit fixed-width evaluation
+ * (exact_int.c). */
+int pred_orient3d_wide(const double *a, const double *b, const double *c, const double *d,
+                       int *sign);
+int pred_insphere_wide(const double *a, const double *b, const double *c, const double *d,
+                       const double *e, int *sign);
 int pred_orient2d_int(const double *a, const double *b, const double *c, int u, int w,
                       int *sign);
 /* sign of det[(u,w,|.|^2) of a-e; b-e; c-e] (see sos.c) */

@@ -64,6 +64,13 @@ static int coplanar_orientation(const double *a, const double *b, const double *
     return orient2d_exact(a, b, c, 0, 2);
 }
 
+int pred_coplanar_orientation(const double *a, const double *b, const double *c,
+                              pred_counters *cnt)
+{
+    (void)cnt;  /* 2D orientations are not counted (see pred.h) */
+    return coplanar_orientation(a, b, c);
+}
+
 /* Exact unperturbed coplanar in-circle (see the file comment). */
 static int incircle_coplanar_exact(const double *a, const double *b, const double *c,
                                    const double *e)

@@ -14,13 +14,43 @@
 
 /* Moore key of each point on a grid of 2^bits cells per axis over bbox
  * {xmin,ymin,zmin,xmax,ymax,zmax} (3*bits <= 63).  Point i is at xyz + i*stride (doubles).
- * Points outside the box are clamped.  threads <= 1: serial. */
+ * Points outside the box are clamped.  threads <= 1: serial.
+ * Keys are a bijection from the 2^(3 bits) cells onto [0, 2^(3 bits)); consecutive keys are
+ * face-adjacent cells, the last cell is adjacent to the first (the loop), and the key with
+ * `bits` is the key with `bits + 1` shifted right by 3 (prefix property).  A NaN coordinate
+ * counts as the low end of its axis.  bits <= 0: every key is 0; bits > 21 is taken as 21. */
 void sort_moore_keys(const double *xyz, size_t stride, size_t n, const double bbox[6], int bits,
                      uint64_t *keys, int threads);
 
+/* Addition: as sort_moore_keys for the points ids[0..n): keys[i] is the key of the point at
+ * xyz + ids[i]*stride. */
+void sort_moore_keys_ids(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
+                         const double bbox[6], int bits, uint64_t *keys, int threads);
+
+/* Addition: bounding box {xmin,ymin,zmin,xmax,ymax,zmax} of the points ids[0..n) (ids NULL:
+ * points 0..n-1), with -0.0 written as +0.0 so that it does not depend on the thread count.
+ * n == 0 gives all zeros.  NaN coordinates are ignored. */
+void sort_bbox(const double *xyz, size_t stride, const uint32_t *ids, size_t n, double bbox[6],
+               int threads);
+
+/* Addition, for the parallel kernel's conflict passes (seed paper section 4.2, "bounding box
+ * expansion" with a shift of the curve): out is the pass-th enlarged and shifted box of bbox.
+ * pass <= 0 or !(factor > 1): out = bbox.  Otherwise, on each axis a of extent E (the largest
+ * extent of the box when this axis is flat), with u in [0,1) a hash of (seed, pass, a):
+ *   out_lo = lo - u (factor-1) E,   out_hi = hi + (1-u) (factor-1) E,
+ * so the box grows to factor times its extent (a flat axis to (factor-1) E) and contains
+ * bbox (enforced exactly; the result is clamped to +-DBL_MAX; factor is capped at 2^20);
+ * its centre, hence the curve's partition planes, moves by (1/2 - u)(factor-1) E.
+ * Deterministic: IEEE operations only.  bbox and out may be the same array. */
+void sort_bbox_expand(const double bbox[6], double factor, uint64_t seed, int pass,
+                      double out[6]);
+
 /* Stable sort of idx[0..n) by keys (keys permuted alongside), looking only at the low
  * key_bits bits.  tmp_keys / tmp_idx are caller-provided scratch of n entries each.
- * threads <= 1: serial. */
+ * threads <= 1: serial.  The output is the unique stable order, so it never depends on the
+ * thread count.  key_bits <= 0: nothing to do; key_bits > 64 is taken as 64.  The parallel
+ * path uses at most 256 threads and needs 16 KiB of histograms per thread: if that
+ * allocation fails it runs serially. */
 void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
                       uint64_t *tmp_keys, uint32_t *tmp_idx, int threads);
 
@@ -29,9 +59,35 @@ void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
  * next about `ratio` times larger), and sort each round on the Moore curve of the points'
  * bounding box.  On return ids[] holds the insertion order and round_end[r] (r <
  * *num_rounds <= 64) the exclusive end of round r.  Returns GTET_OK or
- * GTET_ERR_OUT_OF_MEMORY. */
+ * GTET_ERR_OUT_OF_MEMORY.
+ * Precisely: the shuffle sorts ids by sort_hash64(id + sort_hash64(seed)) (a bijection of the
+ * id, so no ties among distinct ids: the order depends on the set of ids, not on their order
+ * in ids[]; ids must be distinct -- with repeated ids the output is still a permutation of
+ * ids[], but equal ids stay in one round, so round sizes may differ from the rule below).  Round
+ * ends: round_end[R-1] = n and, while round_end[r] > first,
+ *   round_end[r-1] = min(max(floor(round_end[r] / ratio), 1), round_end[r] - 1);
+ * if that would make more than 64 rounds, the smallest ones are merged into the first (which
+ * then holds more than `first` points).  Round r = [round_end[r-1], round_end[r]) is stably
+ * sorted by sort_moore_keys_ids with sort_bbox of its points and sort_brio_bits(its size)
+ * (equal keys thus stay in hash order).  Memory: 21 bytes per point, freed on return.
+ * Additions: GTET_ERR_ARGUMENT when n > 0 and a pointer is NULL, first == 0, !(ratio > 1),
+ * or n > 2^32.  n == 0 gives *num_rounds = 0. */
 gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t seed,
                       size_t first, double ratio, size_t round_end[64], int *num_rounds,
                       int threads);
+
+/* Addition: bits per axis of the Moore keys of a BRIO round of m points:
+ * ceil(log2(m) / 3) + 3, between 1 and 21 (about 64 to 512 cells per point: enough to order
+ * the round, few enough that the radix sort makes ceil(3 bits / 11) passes). */
+int sort_brio_bits(size_t m);
+
+/* Addition: a bijective 64-bit mixer (the splitmix64 finaliser), the library's reproducible
+ * hash for shuffles and shifts. */
+static inline uint64_t sort_hash64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
 
 #endif

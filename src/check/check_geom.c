@@ -1,0 +1,189 @@
+/* check_geom.c -- the geometric stages of the checker, every sign from the GMP oracle:
+ * orientation, perturbed local Delaunay, the hull rule and the convexity of the hull, the
+ * volume cross-check and the optional full empty-sphere test.
+ *
+ * Why the hull stage proves the hull convex and the tets a triangulation.  After check_topo.c
+ * the hull facets form a closed surface S, oriented outward (ghost orientation), and every
+ * interior facet has its two tets on opposite sides.
+ *   (a) Hull rule across every hull edge: the apex x of the neighbouring hull facet does not
+ *       conflict with the ghost of (a,b,c): orient3d(a,b,c,x) < 0, or x coplanar and outside
+ *       the perturbed circle (gtet_ghost_conflict == -1).  So S is locally convex at every edge
+ *       (weakly: flat edges are allowed and decided by the perturbation, as in CGAL).  The
+ *       rule for the tet's own fourth vertex d is checked too; it holds by orientation.
+ *   (b) o = the centroid of tet 0 is strictly on the inner side of every hull facet.  Then the
+ *       central projection from o maps each hull facet onto a positively oriented spherical
+ *       triangle, neighbours onto opposite sides of their common arc: it is a branched covering
+ *       of the sphere by S, of some degree d >= 1 (>= 1 per component of S).
+ *   (c) The ray from o through the centroid X of hull facet 0 lies in the closed cone of
+ *       exactly one hull facet.  X is not the image of a vertex, so the count is d: d = 1, S is
+ *       connected, embedded and star-shaped around o; an embedded closed surface locally convex
+ *       at every edge is locally convex at its vertices too (a simple spherical polygon turning
+ *       one way is convex), hence it bounds a convex body K (Tietze-Nakajima).
+ * The number of tets containing a generic point changes only across hull facets (by one, the
+ * tets lie inside), so it is the winding number of S: 1 in K, 0 outside.  The tets tile K, and
+ * K = conv(vertices) since every vertex is in a tet.  With (every interior facet) perturbed
+ * local Delaunay, the Delaunay lemma (see check.c) finishes the proof.
+ *
+ * The volume comparison (sum of the tets' 6*volume = the volume S encloses, by the divergence
+ * theorem) is an independent cross-check of the facet bookkeeping; it follows from the stages
+ * above and is kept because it is cheap and catches errors in them.
+ * Orientation, insphere and hull-rule signs come from check_filter.c (interval arithmetic, then
+ * the oracle); the centroid tests and the volume from the oracle directly.
+ * The loops over tets run in parallel (OpenMP); each reports its smallest failing index, so the
+ * message is the same for any thread count.
+ */
+#include <stddef.h>
+
+#include "../oracle/oracle.h"
+#include "check_internal.h"
+
+#define P(v) (c->vertices + 3 * (size_t)(v))
+
+gtet_status chk_orientation(chk_ctx *c)
+{
+    const uint32_t *T = c->tets;
+    size_t bad = SIZE_MAX;
+#pragma omp parallel for reduction(min : bad) schedule(dynamic, 512) if (c->nt > 8192)
+    for (size_t t = 0; t < c->nt; t++) {
+        const uint32_t *v = T + 4 * t;
+        if (chk_orient3d(c, P(v[0]), P(v[1]), P(v[2]), P(v[3])) <= 0 && t < bad) bad = t;
+    }
+    if (bad == SIZE_MAX) return GTET_OK;
+    const uint32_t *v = T + 4 * bad;
+    int o = chk_orient3d(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]));
+    return chk_fail(c, "tet %zu (%u %u %u %u) is %s (orient3d = %d)", bad, v[0], v[1], v[2], v[3],
+                    o < 0 ? "negatively oriented" : "flat", o);
+}
+
+/* The vertex of tet u that is not a vertex of tet t (they share a facet). */
+static uint32_t apex_across(const uint32_t *T, size_t t, uint32_t u)
+{
+    for (int j = 0; j < 4; j++) {
+        uint32_t w = T[4 * (size_t)u + j];
+        if (w != T[4 * t] && w != T[4 * t + 1] && w != T[4 * t + 2] && w != T[4 * t + 3]) return w;
+    }
+    return UINT32_MAX;  /* not reached after chk_facets */
+}
+
+gtet_status chk_delaunay(chk_ctx *c)
+{
+    const uint32_t *T = c->tets;
+    size_t bad = SIZE_MAX;
+#pragma omp parallel for reduction(min : bad) schedule(dynamic, 512) if (c->nt > 8192)
+    for (size_t t = 0; t < c->nt; t++) {
+        const uint32_t *v = T + 4 * t;
+        for (int f = 0; f < 4; f++) {
+            uint32_t u = c->adj[4 * t + f];
+            if (u == GTET_NO_TET || u < t) continue;  /* each interior facet once */
+            uint32_t e = apex_across(T, t, u);
+            if (chk_insphere_sos(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]), P(e)) != -1 && 4 * t + f < bad)
+                bad = 4 * t + (size_t)f;
+        }
+    }
+    c->report->facets_checked = c->interior_facets;
+    if (bad == SIZE_MAX) return GTET_OK;
+    size_t t = bad / 4;
+    int f = (int)(bad % 4);
+    const uint32_t *v = T + 4 * t;
+    uint32_t u = c->adj[bad], e = apex_across(T, t, u);
+    uint32_t o[3];
+    chk_outward_facet(v, f, o);
+    return chk_fail(c, "facet (%u %u %u) between tets %zu and %u is not locally Delaunay: vertex "
+                    "%u of tet %u is inside the perturbed circumsphere of tet %zu (%u %u %u %u)",
+                    o[0], o[1], o[2], t, u, e, u, t, v[0], v[1], v[2], v[3]);
+}
+
+gtet_status chk_hull_convex(chk_ctx *c)
+{
+    const uint32_t *T = c->tets, *H = c->hull;
+    /* (a) the hull rule on the ghost's four neighbours: the tet's own apex, then across the
+     * three hull edges the apex of the neighbouring hull facet */
+    for (size_t h = 0; h < c->nh; h++) {
+        const uint32_t *a = H + 3 * h;
+        uint32_t d = T[c->hull_tf[h]];
+        if (chk_ghost_conflict(c, P(a[0]), P(a[1]), P(a[2]), P(d)) != -1)
+            return chk_fail(c, "hull facet (%u %u %u) faces into its own tet %u: vertex %u "
+                            "conflicts with its ghost", a[0], a[1], a[2], c->hull_tf[h] / 4, d);
+        for (int i = 0; i < 3; i++) {
+            const uint32_t *b = H + 3 * (size_t)c->hull_adj[3 * h + i];
+            uint32_t x = UINT32_MAX;
+            for (int j = 0; j < 3; j++)
+                if (b[j] != a[i] && b[j] != a[(i + 1) % 3]) x = b[j];
+            if (chk_ghost_conflict(c, P(a[0]), P(a[1]), P(a[2]), P(x)) != -1)
+                return chk_fail(c, "the hull is not convex at edge (%u %u): vertex %u of hull facet "
+                                "(%u %u %u) conflicts with the ghost of hull facet (%u %u %u)",
+                                a[i], a[(i + 1) % 3], x, b[0], b[1], b[2], a[0], a[1], a[2]);
+        }
+    }
+    /* (b) the centroid o of tet 0 strictly inside every hull facet */
+    const double *pts[9];
+    for (int i = 0; i < 4; i++) pts[i] = P(T[i]);
+    for (size_t h = 0; h < c->nh; h++) {
+        const uint32_t *a = H + 3 * h;
+        const double *q[7] = {P(a[0]), P(a[1]), P(a[2]), pts[0], pts[1], pts[2], pts[3]};
+        static const int cnt[4] = {1, 1, 1, 4};
+        if (orc_orient3d_avg(q, cnt) >= 0)
+            return chk_fail(c, "the centroid of tet 0 is not strictly inside hull facet (%u %u %u): "
+                            "the hull is not convex", a[0], a[1], a[2]);
+    }
+    /* (c) the ray from o through the centroid of hull facet 0 meets exactly one hull facet */
+    for (int i = 0; i < 3; i++) pts[6 + i] = P(H[i]);
+    size_t hits = 0;
+    for (size_t h = 0; h < c->nh; h++) {
+        const uint32_t *a = H + 3 * h;
+        int inside = 1;
+        for (int i = 0; i < 3 && inside; i++) {
+            pts[4] = P(a[i]);
+            pts[5] = P(a[(i + 1) % 3]);
+            static const int cnt[4] = {4, 1, 1, 3};  /* (o, p, q, X) */
+            inside = orc_orient3d_avg(pts, cnt) >= 0;
+        }
+        hits += (size_t)inside;
+    }
+    if (hits != 1)
+        return chk_fail(c, "a ray from the centroid of tet 0 meets %zu hull facets, not 1: the hull "
+                        "wraps around it %s", hits, hits ? "more than once" : "zero times");
+    c->report->facets_checked += c->nh;
+    return GTET_OK;
+}
+
+gtet_status chk_volume(chk_ctx *c)
+{
+    int s = orc_compare_volume(c->vertices, c->nv, c->tets, c->nt, c->hull, c->nh);
+    if (s == 0) return GTET_OK;
+    return chk_fail(c, "the tets' total volume is %s the volume the hull encloses",
+                    s > 0 ? "larger than" : "smaller than");
+}
+
+gtet_status chk_full(chk_ctx *c)
+{
+    const uint32_t *T = c->tets, *H = c->hull;
+    size_t nv = c->nv, bad = SIZE_MAX;
+#pragma omp parallel for reduction(min : bad) schedule(dynamic, 16) if (c->nt * c->nv > 1000000)
+    for (size_t t = 0; t < c->nt; t++) {
+        const uint32_t *v = T + 4 * t;
+        for (size_t w = 0; w < nv; w++) {
+            if (w == v[0] || w == v[1] || w == v[2] || w == v[3]) continue;
+            if (chk_insphere_sos(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]), P(w)) != -1) {
+                if (t * nv + w < bad) bad = t * nv + w;
+                break;
+            }
+        }
+    }
+    if (bad != SIZE_MAX) {
+        size_t t = bad / nv, w = bad % nv;
+        const uint32_t *v = T + 4 * t;
+        return chk_fail(c, "vertex %zu is inside the perturbed circumsphere of tet %zu (%u %u %u %u)",
+                        w, t, v[0], v[1], v[2], v[3]);
+    }
+    for (size_t h = 0; h < c->nh; h++) {
+        const uint32_t *a = H + 3 * h;
+        for (size_t w = 0; w < nv; w++) {
+            if (w == a[0] || w == a[1] || w == a[2]) continue;
+            if (chk_ghost_conflict(c, P(a[0]), P(a[1]), P(a[2]), P(w)) != -1)
+                return chk_fail(c, "vertex %zu conflicts with the ghost of hull facet (%u %u %u): "
+                                "it is beyond the hull", w, a[0], a[1], a[2]);
+        }
+    }
+    return GTET_OK;
+}

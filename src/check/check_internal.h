@@ -1,0 +1,73 @@
+/* check_internal.h -- shared state of the exact checker (src/check/, prefix chk_).
+ *
+ * The checker runs in stages (check.c: inputs and vertices; check_topo.c: facets, adjacency,
+ * hull surface, Euler characteristic and vertex links; check_geom.c: orientation, local
+ * Delaunay, the hull rule, convexity of the hull, volume, the optional full test).  Each stage
+ * returns GTET_OK or stops at the first violation, which chk_fail() writes into the report.
+ * All geometry goes through the GMP oracle (src/oracle/); nothing here uses src/pred/.
+ */
+#ifndef GTET_CHECK_INTERNAL_H
+#define GTET_CHECK_INTERNAL_H
+
+#include "../gigatet.h"
+
+/* A check flag beside GTET_CHECK_FULL, to move into gigatet.h: every sign from the GMP oracle,
+ * without the interval filter of check_filter.c (slower; for cross-checking the filter). */
+#ifndef GTET_CHECK_NO_FILTER
+#define GTET_CHECK_NO_FILTER (1u << 1)
+#endif
+#define CHK_KNOWN_FLAGS ((unsigned)GTET_CHECK_FULL | (unsigned)GTET_CHECK_NO_FILTER)
+
+typedef struct chk_ctx {
+    /* the mesh under test */
+    const double *vertices;     /* 3*nv */
+    size_t nv;
+    const uint32_t *tets;       /* 4*nt */
+    size_t nt;
+    const uint32_t *neighbors;  /* 4*nt or NULL */
+    /* the input (optional) */
+    const double *xyz;          /* 3*n or NULL */
+    size_t n;
+    const uint32_t *input_map;  /* n or NULL: checked against xyz when given (gtet_check) */
+    unsigned flags;
+    gtet_check_report *report;  /* never NULL inside the checker */
+    /* built by the stages */
+    uint32_t *adj;              /* 4*nt: rebuilt adjacency, GTET_NO_TET on the hull */
+    uint32_t *hull;             /* 3*nh: hull facets, outward oriented (ghost orientation) */
+    uint32_t *hull_tf;          /* nh: 4*t+f of the tet facet behind each hull facet */
+    uint32_t *hull_adj;         /* 3*nh: hull facet across edge (hull[3h+i], hull[3h+(i+1)%3]) */
+    size_t nh;
+    size_t interior_facets;
+} chk_ctx;
+
+/* Record the first violation (printf-style message) and return GTET_ERR_CHECK_FAILED. */
+gtet_status chk_fail(chk_ctx *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+gtet_status chk_oom(chk_ctx *c);
+
+/* Facet f of tet t (opposite its vertex f) as seen from outside the tet: (o[0], o[1], o[2])
+ * with orient3d(o[0], o[1], o[2], tets[4t+f]) < 0 when the tet is positively oriented. */
+void chk_outward_facet(const uint32_t *tet, int f, uint32_t o[3]);
+
+/* The predicates the stages use (check_filter.c): the oracle's exact sign, decided first by
+ * interval arithmetic when c->flags lacks GTET_CHECK_NO_FILTER. */
+int chk_orient3d(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                 const double *d);
+int chk_insphere_sos(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                     const double *d, const double *e);
+int chk_ghost_conflict(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                       const double *e);
+
+gtet_status chk_inputs(chk_ctx *c);        /* check.c */
+gtet_status chk_orientation(chk_ctx *c);   /* check_geom.c */
+gtet_status chk_facets(chk_ctx *c);        /* check_topo.c: fills adj, hull, hull_tf */
+gtet_status chk_hull_surface(chk_ctx *c);  /* check_topo.c: fills hull_adj */
+gtet_status chk_euler_links(chk_ctx *c);   /* check_topo.c */
+gtet_status chk_delaunay(chk_ctx *c);      /* check_geom.c */
+gtet_status chk_hull_convex(chk_ctx *c);   /* check_geom.c */
+gtet_status chk_volume(chk_ctx *c);        /* check_geom.c */
+gtet_status chk_full(chk_ctx *c);          /* check_geom.c */
+
+/* The whole checker on a filled context (inputs set, built fields zero); frees what it builds. */
+gtet_status chk_run(chk_ctx *c);
+
+#endif

@@ -1,0 +1,401 @@
+/* io_common.c -- errors, whole-file loading, text tokens, atomic output files and the format
+ * dispatch of io.h.
+ *
+ * Atomic output: io_out_open creates "PATH.tmp-PID-N" with O_CREAT|O_EXCL (never reusing or
+ * following an existing file; the process umask applies as to any new file), io_out_close
+ * flushes and closes it and reports any write error (a full disk shows up at the latest in
+ * fclose), io_out_commit renames it onto PATH (rename within one directory is atomic on
+ * POSIX).  Any failure unlinks the temporary, so the destination is either the complete new
+ * file or untouched.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "io_internal.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+io_status io_fail(io_error *err, io_status status, const char *fmt, ...)
+{
+    if (err) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err->message, sizeof err->message, fmt, ap);
+        va_end(ap);
+        err->status = status;
+    }
+    return status;
+}
+
+static int ext_is(const char *path, const char *ext)
+{
+    size_t lp = strlen(path), le = strlen(ext);
+    if (lp <= le) return 0;
+    for (size_t i = 0; i < le; i++)
+        if (tolower((unsigned char)path[lp - le + i]) != ext[i]) return 0;
+    return 1;
+}
+
+io_format io_format_of(const char *path)
+{
+    if (!path) return IO_FMT_UNKNOWN;
+    if (ext_is(path, ".xyz")) return IO_FMT_XYZ;
+    if (ext_is(path, ".node")) return IO_FMT_NODE;
+    if (ext_is(path, ".ply")) return IO_FMT_PLY;
+    if (ext_is(path, ".bin")) return IO_FMT_BIN;
+    if (ext_is(path, ".ele")) return IO_FMT_ELE;
+    if (ext_is(path, ".msh")) return IO_FMT_MSH;
+    if (ext_is(path, ".vtu")) return IO_FMT_VTU;
+    return IO_FMT_UNKNOWN;
+}
+
+io_status io_load_file(const char *path, char **buf, size_t *len, io_error *err)
+{
+    *buf = NULL;
+    *len = 0;
+    int fd = open(path, O_RDONLY);
+    if (fd < 0) return io_fail(err, IO_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        int e = errno;
+        close(fd);
+        return io_fail(err, IO_ERR_INPUT, "%s: cannot stat: %s", path, strerror(e));
+    }
+    if (S_ISDIR(st.st_mode)) {
+        close(fd);
+        return io_fail(err, IO_ERR_INPUT, "%s: is a directory, not a file", path);
+    }
+    /* Regular files: one allocation of the known size; pipes etc.: grow by doubling. */
+    size_t cap = S_ISREG(st.st_mode) ? (size_t)st.st_size + 1 : 65536, n = 0;
+    char *b = malloc(cap);
+    if (!b) {
+        close(fd);
+        return io_fail(err, IO_ERR_NOMEM, "%s: out of memory reading %zu bytes", path, cap);
+    }
+    for (;;) {
+        if (n + 1 >= cap) {
+            /* Full: probe one byte before growing, so that a regular file of the size
+             * fstat reported is read with one allocation. */
+            char probe;
+            ssize_t r = read(fd, &probe, 1);
+            if (r < 0 && errno == EINTR) continue;
+            if (r == 0) break;
+            char *nb = (r < 0 || cap > SIZE_MAX / 2) ? NULL : realloc(b, cap * 2);
+            if (!nb) {
+                int e = errno;
+                free(b);
+                close(fd);
+                if (r < 0) return io_fail(err, IO_ERR_INPUT, "%s: read error: %s", path, strerror(e));
+                return io_fail(err, IO_ERR_NOMEM, "%s: out of memory reading the file", path);
+            }
+            b = nb;
+            cap *= 2;
+            b[n++] = probe;
+            continue;
+        }
+        ssize_t r = read(fd, b + n, cap - 1 - n);
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            int e = errno;
+            free(b);
+            close(fd);
+            return io_fail(err, IO_ERR_INPUT, "%s: read error: %s", path, strerror(e));
+        }
+        if (r == 0) break;
+        n += (size_t)r;
+    }
+    close(fd);
+    b[n] = '\0';
+    *buf = b;
+    *len = n;
+    return IO_OK;
+}
+
+/* ---- text -------------------------------------------------------------------------------- */
+
+static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+void io_text_init(io_text *t, const char *name, const char *buf, size_t len)
+{
+    t->name = name;
+    t->p = buf;
+    t->end = buf + len;
+    t->line = 0;
+    t->lp = t->le = buf;
+}
+
+int io_text_next_line(io_text *t)
+{
+    while (t->p < t->end) {
+        const char *nl = memchr(t->p, '\n', (size_t)(t->end - t->p));
+        const char *le = nl ? nl : t->end;
+        const char *hash = memchr(t->p, '#', (size_t)(le - t->p));
+        t->line++;
+        t->lp = t->p;
+        t->le = hash ? hash : le;
+        t->p = nl ? nl + 1 : t->end;
+        while (t->lp < t->le && is_blank(*t->lp)) t->lp++;
+        if (t->lp < t->le) return 1;
+    }
+    return 0;
+}
+
+int io_text_token(io_text *t, const char **ts, const char **te)
+{
+    const char *q = t->lp;
+    while (q < t->le && is_blank(*q)) q++;
+    if (q >= t->le) {
+        t->lp = q;
+        return 0;
+    }
+    *ts = q;
+    while (q < t->le && !is_blank(*q)) q++;
+    *te = q;
+    t->lp = q;
+    return 1;
+}
+
+size_t io_text_count_tokens(const io_text *t)
+{
+    size_t k = 0;
+    const char *q = t->lp;
+    while (q < t->le) {
+        while (q < t->le && is_blank(*q)) q++;
+        if (q >= t->le) break;
+        k++;
+        while (q < t->le && !is_blank(*q)) q++;
+    }
+    return k;
+}
+
+/* At most 40 bytes of a token, with non-printable bytes shown as '?', for messages. */
+static void token_excerpt(const char *ts, const char *te, char out[48])
+{
+    size_t k = 0;
+    for (const char *q = ts; q < te && k < 40; q++)
+        out[k++] = isprint((unsigned char)*q) ? *q : '?';
+    if (ts + k < te) { out[k++] = '.'; out[k++] = '.'; out[k++] = '.'; }
+    out[k] = '\0';
+}
+
+io_status io_text_double(const io_text *t, const char *ts, const char *te, const char *what,
+                         double *v, io_error *err)
+{
+    char *ep;
+    char ex[48];
+    errno = 0;
+    double x = strtod(ts, &ep);
+    if (ep != te) {
+        token_excerpt(ts, te, ex);
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: %s is not a number: '%s'", t->name, t->line,
+                       what, ex);
+    }
+    if (!isfinite(x)) {
+        token_excerpt(ts, te, ex);
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: %s is not finite: '%s'%s", t->name, t->line,
+                       what, ex, errno == ERANGE ? " (overflows a double)" : "");
+    }
+    *v = x;
+    return IO_OK;
+}
+
+io_status io_text_uint(const io_text *t, const char *ts, const char *te, const char *what,
+                       uint64_t max, uint64_t *v, io_error *err)
+{
+    char ex[48];
+    uint64_t x = 0;
+    const char *q = ts;
+    if (q < te && *q == '+') q++;
+    if (q >= te) goto bad;
+    for (; q < te; q++) {
+        if (*q < '0' || *q > '9') goto bad;
+        unsigned d = (unsigned)(*q - '0');
+        if (d > max || x > (max - d) / 10) {
+            token_excerpt(ts, te, ex);
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: %s is too large: '%s' (at most %llu)",
+                           t->name, t->line, what, ex, (unsigned long long)max);
+        }
+        x = x * 10 + d;
+    }
+    *v = x;
+    return IO_OK;
+bad:
+    token_excerpt(ts, te, ex);
+    return io_fail(err, IO_ERR_INPUT, "%s:%zu: %s is not a non-negative integer: '%s'", t->name,
+                   t->line, what, ex);
+}
+
+io_status io_dvec_push3(io_dvec *v, const double x[3], const char *name, io_error *err)
+{
+    if (v->n + 3 > v->cap) {
+        size_t nc = v->cap ? v->cap * 2 : 3 * 1024;
+        double *na = nc > SIZE_MAX / sizeof(double) ? NULL : realloc(v->a, nc * sizeof(double));
+        if (!na) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory after %zu points", name,
+                                v->n / 3);
+        v->a = na;
+        v->cap = nc;
+    }
+    memcpy(v->a + v->n, x, 3 * sizeof(double));
+    v->n += 3;
+    return IO_OK;
+}
+
+/* ---- dispatch ---------------------------------------------------------------------------- */
+
+static io_status parse_nul(io_format fmt, const char *name, const char *buf, size_t len,
+                           double **xyz, size_t *n, io_error *err)
+{
+    long first;
+    switch (fmt) {
+    case IO_FMT_XYZ: return io_parse_xyz(name, buf, len, xyz, n, err);
+    case IO_FMT_NODE: return io_parse_node(name, buf, len, xyz, n, &first, err);
+    case IO_FMT_PLY: return io_parse_ply(name, buf, len, xyz, n, err);
+    case IO_FMT_BIN: return io_parse_bin(name, (const unsigned char *)buf, len, xyz, n, err);
+    default:
+        return io_fail(err, IO_ERR_INPUT,
+                       "%s: unknown point file extension (expected .xyz, .node, .ply or .bin)",
+                       name);
+    }
+}
+
+io_status io_parse_points(io_format fmt, const char *name, const void *data, size_t len,
+                          double **xyz, size_t *n, io_error *err)
+{
+    *xyz = NULL;
+    *n = 0;
+    char *copy = malloc(len + 1);
+    if (!copy) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory", name);
+    if (len) memcpy(copy, data, len);
+    copy[len] = '\0';
+    io_status s = parse_nul(fmt, name, copy, len, xyz, n, err);
+    free(copy);
+    return s;
+}
+
+io_status io_read_points(const char *path, double **xyz, size_t *n, io_error *err)
+{
+    *xyz = NULL;
+    *n = 0;
+    io_format fmt = io_format_of(path);
+    if (fmt < IO_FMT_XYZ || fmt > IO_FMT_BIN)
+        return io_fail(err, IO_ERR_INPUT,
+                       "%s: unknown point file extension (expected .xyz, .node, .ply or .bin)",
+                       path);
+    if (fmt == IO_FMT_BIN) return io_read_bin_file(path, xyz, n, err);
+    char *buf;
+    size_t len;
+    io_status s = io_load_file(path, &buf, &len, err);
+    if (s != IO_OK) return s;
+    s = parse_nul(fmt, path, buf, len, xyz, n, err);
+    free(buf);
+    return s;
+}
+
+/* ---- atomic output ----------------------------------------------------------------------- */
+
+io_status io_out_open(io_out *o, const char *path, io_error *err)
+{
+    o->f = NULL;
+    o->path = path;
+    size_t cap = strlen(path) + 64;
+    o->tmp = malloc(cap);
+    if (!o->tmp) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory", path);
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    unsigned long salt = (unsigned long)ts.tv_nsec;
+    for (int attempt = 0; attempt < 100; attempt++) {
+        snprintf(o->tmp, cap, "%s.tmp-%ld-%lu", path, (long)getpid(), salt + (unsigned long)attempt);
+        int fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd < 0) {
+            if (errno == EEXIST) continue;
+            int e = errno;
+            free(o->tmp);
+            o->tmp = NULL;
+            return io_fail(err, IO_ERR_WRITE, "%s: cannot create the output file: %s", path,
+                           strerror(e));
+        }
+        o->f = fdopen(fd, "wb");
+        if (!o->f) {
+            int e = errno;
+            close(fd);
+            unlink(o->tmp);
+            free(o->tmp);
+            o->tmp = NULL;
+            return io_fail(err, IO_ERR_WRITE, "%s: cannot open the output file: %s", path,
+                           strerror(e));
+        }
+        return IO_OK;
+    }
+    free(o->tmp);
+    o->tmp = NULL;
+    return io_fail(err, IO_ERR_WRITE, "%s: cannot create a temporary file beside it", path);
+}
+
+io_status io_out_close(io_out *o, io_error *err)
+{
+    if (!o->f) return IO_OK;
+    int bad = fflush(o->f) != 0 || ferror(o->f);
+    int e = errno;
+    if (fclose(o->f) != 0 && !bad) {
+        bad = 1;
+        e = errno;
+    }
+    o->f = NULL;
+    if (bad) {
+        io_out_abort(o);
+        return io_fail(err, IO_ERR_WRITE, "%s: write error: %s", o->path, strerror(e));
+    }
+    return IO_OK;
+}
+
+io_status io_out_commit(io_out *o, io_error *err)
+{
+    if (rename(o->tmp, o->path) != 0) {
+        int e = errno;
+        io_out_abort(o);
+        return io_fail(err, IO_ERR_WRITE, "%s: cannot rename the finished output into place: %s",
+                       o->path, strerror(e));
+    }
+    free(o->tmp);
+    o->tmp = NULL;
+    return IO_OK;
+}
+
+void io_out_abort(io_out *o)
+{
+    if (o->f) {
+        fclose(o->f);
+        o->f = NULL;
+    }
+    if (o->tmp) {
+        unlink(o->tmp);
+        free(o->tmp);
+        o->tmp = NULL;
+    }
+}
+
+io_status io_check_writable(const char *path, io_error *err)
+{
+    io_out o;
+    io_status s = io_out_open(&o, path, err);
+    if (s == IO_OK) io_out_abort(&o);
+    return s;
+}
+
+char *io_fmt_u64(char *p, uint64_t v)
+{
+    char tmp[24];
+    int k = 0;
+    do {
+        tmp[k++] = (char)('0' + v % 10);
+        v /= 10;
+    } while (v);
+    while (k) *p++ = tmp[--k];
+    return p;
+}

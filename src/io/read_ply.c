@@ -1,0 +1,510 @@
+/* read_ply.c -- the .ply point reader (ascii and binary_little_endian) and the .bin reader.
+ *
+ * PLY: the header is parsed line by line up to "end_header"; it declares elements with
+ * their counts and properties (scalars of the eight PLY types, or lists).  Only the element
+ * named "vertex" is read; its properties x, y, z (any scalar type, converted exactly to
+ * double) are kept and everything else is skipped.  Elements before the vertex element are
+ * skipped item by item (lists have variable size); elements after it (faces) are ignored.
+ * Before the point array is allocated, the declared vertex count is checked against the
+ * bytes that follow the header: a binary vertex takes at least the sum of its scalar sizes
+ * (a list at least its count field), an ascii vertex at least 2 bytes per property.
+ *
+ * .bin: a little-endian uint64 count, then exactly count*3 little-endian doubles.  The size
+ * is checked (count <= (len-8)/24, then len == 8+24*count) before anything is allocated.
+ * Bytes are assembled explicitly, so the readers do not depend on the host's byte order.
+ * io_read_bin_file reads a regular .bin file straight into the point array (decoded in
+ * place), so that reading n points needs 24n bytes, not twice that.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "io_internal.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+enum { PLY_MAX_ELEMENTS = 32, PLY_MAX_PROPS = 256 };
+
+typedef struct ply_prop {
+    int type;       /* scalar type, or the item type of a list */
+    int count_type; /* list: type of the count; -1 for a scalar */
+    int coord;      /* 0, 1, 2 for x, y, z; -1 otherwise */
+} ply_prop;
+
+typedef struct ply_element {
+    char name[32];
+    uint64_t count;
+    int nprops;
+    ply_prop props[PLY_MAX_PROPS];
+} ply_element;
+
+static const struct { const char *name; int size; char kind; } ply_types[] = {
+    {"char", 1, 's'},   {"uchar", 1, 'u'},  {"short", 2, 's'},   {"ushort", 2, 'u'},
+    {"int", 4, 's'},    {"uint", 4, 'u'},   {"float", 4, 'f'},   {"double", 8, 'f'},
+    {"int8", 1, 's'},   {"uint8", 1, 'u'},  {"int16", 2, 's'},   {"uint16", 2, 'u'},
+    {"int32", 4, 's'},  {"uint32", 4, 'u'}, {"float32", 4, 'f'}, {"float64", 8, 'f'},
+};
+
+static int ply_type(const char *s, size_t len)
+{
+    for (int i = 0; i < (int)(sizeof ply_types / sizeof ply_types[0]); i++)
+        if (strlen(ply_types[i].name) == len && memcmp(ply_types[i].name, s, len) == 0) return i;
+    return -1;
+}
+
+static uint64_t le_u64(const unsigned char *p)
+{
+    uint64_t v = 0;
+    for (int i = 7; i >= 0; i--) v = (v << 8) | p[i];
+    return v;
+}
+
+/* Value of a little-endian binary scalar of type ty at p, as a double (exact for every type:
+ * the integers have at most 32 bits, floats widen exactly). */
+static double le_value(int ty, const unsigned char *p)
+{
+    uint64_t u = 0;
+    int size = ply_types[ty].size;
+    for (int i = size - 1; i >= 0; i--) u = (u << 8) | p[i];
+    switch (ply_types[ty].kind) {
+    case 'u': return (double)u;
+    case 's': {
+        int64_t sv = (int64_t)(u << (64 - 8 * size)) >> (64 - 8 * size);
+        return (double)sv;
+    }
+    default:
+        if (size == 4) {
+            uint32_t w = (uint32_t)u;
+            float f;
+            memcpy(&f, &w, 4);
+            return (double)f;
+        } else {
+            double d;
+            memcpy(&d, &u, 8);
+            return d;
+        }
+    }
+}
+
+/* One header line [ls, le) split into up to 6 words. */
+static int words(const char *ls, const char *le, const char *w[6], size_t wl[6])
+{
+    int k = 0;
+    const char *q = ls;
+    while (q < le && k < 6) {
+        while (q < le && (*q == ' ' || *q == '\t' || *q == '\r')) q++;
+        if (q >= le) break;
+        w[k] = q;
+        while (q < le && *q != ' ' && *q != '\t' && *q != '\r') q++;
+        wl[k] = (size_t)(q - w[k]);
+        k++;
+    }
+    return k;
+}
+
+static int word_is(const char *w, size_t wl, const char *s)
+{
+    return strlen(s) == wl && memcmp(w, s, wl) == 0;
+}
+
+typedef struct ply_header {
+    int binary;
+    int nel, vertex;        /* element count, index of the vertex element */
+    size_t data;            /* offset of the first data byte */
+    size_t lines;           /* header lines */
+    ply_element el[PLY_MAX_ELEMENTS];
+} ply_header;
+
+static io_status ply_parse_header(const char *name, const char *buf, size_t len, ply_header *h,
+                                  io_error *err)
+{
+    const char *p = buf, *end = buf + len;
+    size_t line = 0;
+    int have_format = 0, done = 0;
+    h->nel = 0;
+    h->vertex = -1;
+    while (p < end && !done) {
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
+        if (!nl) return io_fail(err, IO_ERR_INPUT, "%s:%zu: the PLY header has no end_header", name, line + 1);
+        const char *w[6];
+        size_t wl[6];
+        int k = words(p, nl, w, wl);
+        line++;
+        p = nl + 1;
+        if (line == 1) {
+            if (k != 1 || !word_is(w[0], wl[0], "ply"))
+                return io_fail(err, IO_ERR_INPUT, "%s:1: not a PLY file (the first line is not 'ply')", name);
+            continue;
+        }
+        if (k == 0) continue;
+        if (word_is(w[0], wl[0], "comment") || word_is(w[0], wl[0], "obj_info")) continue;
+        if (word_is(w[0], wl[0], "end_header")) {
+            done = 1;
+        } else if (word_is(w[0], wl[0], "format")) {
+            if (k != 3 || !word_is(w[2], wl[2], "1.0"))
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed format line", name, line);
+            if (word_is(w[1], wl[1], "ascii")) h->binary = 0;
+            else if (word_is(w[1], wl[1], "binary_little_endian")) h->binary = 1;
+            else
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: unsupported PLY format '%.*s' (ascii and "
+                               "binary_little_endian are read)", name, line, (int)(wl[1] > 40 ? 40 : wl[1]), w[1]);
+            have_format = 1;
+        } else if (word_is(w[0], wl[0], "element")) {
+            if (k != 3)
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed element line", name, line);
+            if (h->nel == PLY_MAX_ELEMENTS)
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: more than %d elements", name, line, PLY_MAX_ELEMENTS);
+            ply_element *e = &h->el[h->nel];
+            io_text t = {.name = name, .line = line};
+            if (io_text_uint(&t, w[2], w[2] + wl[2], "the element count", UINT64_MAX, &e->count, err) != IO_OK)
+                return IO_ERR_INPUT;
+            size_t nl2 = wl[1] < sizeof e->name ? wl[1] : sizeof e->name - 1;
+            memcpy(e->name, w[1], nl2);
+            e->name[nl2] = '\0';
+            e->nprops = 0;
+            if (word_is(w[1], wl[1], "vertex")) {
+                if (h->vertex >= 0)
+                    return io_fail(err, IO_ERR_INPUT, "%s:%zu: a second vertex element", name, line);
+                h->vertex = h->nel;
+            }
+            h->nel++;
+        } else if (word_is(w[0], wl[0], "property")) {
+            if (h->nel == 0)
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: a property before any element", name, line);
+            ply_element *e = &h->el[h->nel - 1];
+            if (e->nprops == PLY_MAX_PROPS)
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: more than %d properties", name, line, PLY_MAX_PROPS);
+            ply_prop *pr = &e->props[e->nprops];
+            const char *pn;
+            size_t pnl;
+            if (k == 5 && word_is(w[1], wl[1], "list")) {
+                pr->count_type = ply_type(w[2], wl[2]);
+                pr->type = ply_type(w[3], wl[3]);
+                if (pr->count_type < 0 || pr->type < 0 || ply_types[pr->count_type].kind == 'f')
+                    return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed list property", name, line);
+                pn = w[4];
+                pnl = wl[4];
+            } else if (k == 3) {
+                pr->count_type = -1;
+                pr->type = ply_type(w[1], wl[1]);
+                if (pr->type < 0)
+                    return io_fail(err, IO_ERR_INPUT, "%s:%zu: unknown property type '%.*s'", name, line,
+                                   (int)(wl[1] > 40 ? 40 : wl[1]), w[1]);
+                pn = w[2];
+                pnl = wl[2];
+            } else {
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed property line", name, line);
+            }
+            pr->coord = -1;
+            if (pnl == 1 && (*pn == 'x' || *pn == 'y' || *pn == 'z') && h->vertex == h->nel - 1) {
+                int c = *pn - 'x';
+                for (int i = 0; i < e->nprops; i++)
+                    if (e->props[i].coord == c)
+                        return io_fail(err, IO_ERR_INPUT, "%s:%zu: property %c declared twice", name, line, *pn);
+                if (pr->count_type >= 0)
+                    return io_fail(err, IO_ERR_INPUT, "%s:%zu: property %c is a list", name, line, *pn);
+                pr->coord = c;
+            }
+            e->nprops++;
+        } else {
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: unknown PLY header keyword '%.*s'", name, line,
+                           (int)(wl[0] > 40 ? 40 : wl[0]), w[0]);
+        }
+    }
+    if (!done) return io_fail(err, IO_ERR_INPUT, "%s: the PLY header has no end_header", name);
+    if (!have_format) return io_fail(err, IO_ERR_INPUT, "%s: the PLY header has no format line", name);
+    if (h->vertex < 0) return io_fail(err, IO_ERR_INPUT, "%s: the PLY header declares no vertex element", name);
+    int seen = 0;
+    for (int i = 0; i < h->el[h->vertex].nprops; i++)
+        if (h->el[h->vertex].props[i].coord >= 0) seen |= 1 << h->el[h->vertex].props[i].coord;
+    if (seen != 7)
+        return io_fail(err, IO_ERR_INPUT, "%s: the vertex element lacks property %c", name,
+                       !(seen & 1) ? 'x' : !(seen & 2) ? 'y' : 'z');
+    if (h->el[h->vertex].count == 0) return io_fail(err, IO_ERR_INPUT, "%s: the PLY file declares 0 vertices", name);
+    h->data = (size_t)(p - buf);
+    h->lines = line;
+    return IO_OK;
+}
+
+/* Skip one binary property value (a scalar or a whole list) at *pos; 0 when it runs past len. */
+static int bin_skip_prop(const ply_prop *pr, const unsigned char *b, size_t len, size_t *pos)
+{
+    size_t is = (size_t)ply_types[pr->type].size;
+    if (pr->count_type < 0) {
+        if (len - *pos < is) return 0;
+        *pos += is;
+        return 1;
+    }
+    size_t cs = (size_t)ply_types[pr->count_type].size;
+    if (len - *pos < cs) return 0;
+    double c = le_value(pr->count_type, b + *pos);
+    *pos += cs;
+    if (c < 0 || c > (double)((len - *pos) / is)) return 0;
+    *pos += (size_t)c * is;
+    return 1;
+}
+
+static int bin_skip_item(const ply_element *e, const unsigned char *b, size_t len, size_t *pos)
+{
+    for (int j = 0; j < e->nprops; j++)
+        if (!bin_skip_prop(&e->props[j], b, len, pos)) return 0;
+    return 1;
+}
+
+static io_status ply_binary(const char *name, const unsigned char *b, size_t len,
+                            const ply_header *h, double *a, io_error *err)
+{
+    size_t pos = h->data;
+    for (int i = 0; i < h->vertex; i++)
+        for (uint64_t k = 0; k < h->el[i].count; k++)
+            if (!bin_skip_item(&h->el[i], b, len, &pos))
+                return io_fail(err, IO_ERR_INPUT, "%s: the file ends inside element '%s' item %llu",
+                               name, h->el[i].name, (unsigned long long)k);
+    const ply_element *e = &h->el[h->vertex];
+    for (uint64_t i = 0; i < e->count; i++) {
+        for (int j = 0; j < e->nprops; j++) {
+            const ply_prop *pr = &e->props[j];
+            if (pr->coord >= 0) {
+                size_t sz = (size_t)ply_types[pr->type].size;
+                if (len - pos < sz) goto short_file;
+                double v = le_value(pr->type, b + pos);
+                if (!isfinite(v))
+                    return io_fail(err, IO_ERR_INPUT, "%s: vertex %llu (byte offset %zu): %c is %s",
+                                   name, (unsigned long long)i, pos, 'x' + pr->coord,
+                                   isnan(v) ? "NaN" : "infinite");
+                a[3 * i + (size_t)pr->coord] = v;
+                pos += sz;
+            } else if (!bin_skip_prop(pr, b, len, &pos)) {
+                goto short_file;
+            }
+        }
+        continue;
+    short_file:
+        return io_fail(err, IO_ERR_INPUT, "%s: the file ends inside vertex %llu of %llu", name,
+                       (unsigned long long)i, (unsigned long long)e->count);
+    }
+    return IO_OK;
+}
+
+static io_status ply_ascii(const char *name, const char *buf, size_t len, const ply_header *h,
+                           double *a, io_error *err)
+{
+    io_text t;
+    io_status s;
+    io_text_init(&t, name, buf + h->data, len - h->data);
+    t.line = h->lines;
+    for (int i = 0; i < h->vertex; i++)
+        for (uint64_t k = 0; k < h->el[i].count; k++)
+            if (!io_text_next_line(&t))
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: the file ends inside element '%s'",
+                               name, t.line, h->el[i].name);
+    const ply_element *e = &h->el[h->vertex];
+    static const char *const cn[3] = {"x", "y", "z"};
+    for (uint64_t i = 0; i < e->count; i++) {
+        if (!io_text_next_line(&t))
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: the file ends after %llu of the %llu "
+                           "vertices the header declares", name, t.line, (unsigned long long)i,
+                           (unsigned long long)e->count);
+        const char *ts, *te;
+        for (int j = 0; j < e->nprops; j++) {
+            const ply_prop *pr = &e->props[j];
+            uint64_t items = 1;
+            if (!io_text_token(&t, &ts, &te)) goto few;
+            if (pr->count_type >= 0) {
+                if ((s = io_text_uint(&t, ts, te, "a list count", 1000000, &items, err)) != IO_OK)
+                    return s;
+                for (uint64_t q = 0; q < items; q++) {
+                    double dummy;
+                    if (!io_text_token(&t, &ts, &te)) goto few;
+                    if ((s = io_text_double(&t, ts, te, "a list item", &dummy, err)) != IO_OK)
+                        return s;
+                }
+            } else {
+                double v;
+                if ((s = io_text_double(&t, ts, te, pr->coord >= 0 ? cn[pr->coord] : "a property",
+                                        &v, err)) != IO_OK)
+                    return s;
+                if (pr->coord >= 0) a[3 * i + (size_t)pr->coord] = v;
+            }
+        }
+        if (io_text_token(&t, &ts, &te))
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: vertex %llu has more values than its %d "
+                           "properties", name, t.line, (unsigned long long)i, e->nprops);
+        continue;
+    few:
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: vertex %llu has fewer values than its %d "
+                       "properties", name, t.line, (unsigned long long)i, e->nprops);
+    }
+    return IO_OK;
+}
+
+io_status io_parse_ply(const char *name, const char *buf, size_t len, double **xyz, size_t *n,
+                       io_error *err)
+{
+    *xyz = NULL;
+    *n = 0;
+    ply_header *h = malloc(sizeof *h);
+    if (!h) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory", name);
+    io_status s = ply_parse_header(name, buf, len, h, err);
+    if (s != IO_OK) goto out;
+    const ply_element *e = &h->el[h->vertex];
+    size_t min = 0;
+    for (int j = 0; j < e->nprops; j++) {
+        const ply_prop *pr = &e->props[j];
+        min += h->binary ? (size_t)ply_types[pr->count_type >= 0 ? pr->count_type : pr->type].size : 2;
+    }
+    if (e->count > (len - h->data) / min) {
+        s = io_fail(err, IO_ERR_INPUT, "%s: the header claims %llu vertices, more than the %zu "
+                    "bytes after it can hold", name, (unsigned long long)e->count, len - h->data);
+        goto out;
+    }
+    double *a = malloc((size_t)e->count * 3 * sizeof(double));
+    if (!a) {
+        s = io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %llu vertices", name,
+                    (unsigned long long)e->count);
+        goto out;
+    }
+    s = h->binary ? ply_binary(name, (const unsigned char *)buf, len, h, a, err)
+                  : ply_ascii(name, buf, len, h, a, err);
+    if (s != IO_OK) {
+        free(a);
+        goto out;
+    }
+    *xyz = a;
+    *n = (size_t)e->count;
+out:
+    free(h);
+    return s;
+}
+
+io_status io_parse_bin(const char *name, const unsigned char *buf, size_t len, double **xyz,
+                       size_t *n, io_error *err)
+{
+    *xyz = NULL;
+    *n = 0;
+    if (len == 0) return io_fail(err, IO_ERR_INPUT, "%s: empty file (expected a uint64 count)", name);
+    if (len < 8)
+        return io_fail(err, IO_ERR_INPUT, "%s: %zu bytes, too short for the 8-byte point count",
+                       name, len);
+    uint64_t count = le_u64(buf);
+    if (count == 0) return io_fail(err, IO_ERR_INPUT, "%s: the header declares 0 points", name);
+    if (count > (len - 8) / 24)
+        return io_fail(err, IO_ERR_INPUT, "%s: the header claims %llu points, but the file holds "
+                       "only %zu bytes of coordinates (%zu points)", name,
+                       (unsigned long long)count, len - 8, (len - 8) / 24);
+    if (len != 8 + 24 * count)
+        return io_fail(err, IO_ERR_INPUT, "%s: %zu bytes after the %llu points the header "
+                       "declares (byte offset %llu)", name, len - 8 - 24 * (size_t)count,
+                       (unsigned long long)count, (unsigned long long)(8 + 24 * count));
+    double *a = malloc((size_t)count * 3 * sizeof(double));
+    if (!a) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %llu points", name,
+                           (unsigned long long)count);
+    for (size_t i = 0; i < 3 * (size_t)count; i++) {
+        uint64_t u = le_u64(buf + 8 + 8 * i);
+        double d;
+        memcpy(&d, &u, 8);
+        if (!isfinite(d)) {
+            free(a);
+            return io_fail(err, IO_ERR_INPUT, "%s: point %zu (byte offset %zu): %c is %s", name,
+                           i / 3, 8 + 8 * i, (int)('x' + i % 3), isnan(d) ? "NaN" : "infinite");
+        }
+        a[i] = d;
+    }
+    *xyz = a;
+    *n = (size_t)count;
+    return IO_OK;
+}
+
+/* Check the decoded coordinates a[0..3*count) in place: little-endian bytes -> doubles. */
+static io_status bin_decode(const char *name, double *a, size_t count, io_error *err)
+{
+    for (size_t i = 0; i < 3 * count; i++) {
+        unsigned char b[8];
+        memcpy(b, &a[i], 8);
+        uint64_t u = le_u64(b);
+        double d;
+        memcpy(&d, &u, 8);
+        if (!isfinite(d))
+            return io_fail(err, IO_ERR_INPUT, "%s: point %zu (byte offset %zu): %c is %s", name,
+                           i / 3, 8 + 8 * i, (int)('x' + i % 3), isnan(d) ? "NaN" : "infinite");
+        a[i] = d;
+    }
+    return IO_OK;
+}
+
+static int read_full(int fd, void *buf, size_t len)
+{
+    unsigned char *p = buf;
+    while (len) {
+        ssize_t r = read(fd, p, len);
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) return 0;
+        p += r;
+        len -= (size_t)r;
+    }
+    return 1;
+}
+
+io_status io_read_bin_file(const char *path, double **xyz, size_t *n, io_error *err)
+{
+    *xyz = NULL;
+    *n = 0;
+    int fd = open(path, O_RDONLY);
+    if (fd < 0) return io_fail(err, IO_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        /* directories, pipes: the generic path reports or handles them */
+        close(fd);
+        char *buf;
+        size_t len;
+        io_status s = io_load_file(path, &buf, &len, err);
+        if (s != IO_OK) return s;
+        s = io_parse_bin(path, (const unsigned char *)buf, len, xyz, n, err);
+        free(buf);
+        return s;
+    }
+    size_t len = (size_t)st.st_size;
+    unsigned char h[8];
+    io_status s;
+    if (len < 8 || !read_full(fd, h, 8)) {
+        close(fd);
+        /* the in-memory parser words the short-file errors */
+        return io_parse_bin(path, h, len < 8 ? len : 0, xyz, n, err);
+    }
+    uint64_t count = le_u64(h);
+    if (count == 0 || count > (len - 8) / 24 || len != 8 + 24 * count) {
+        close(fd);
+        /* same checks and messages as io_parse_bin, without reading the data */
+        if (count == 0) return io_fail(err, IO_ERR_INPUT, "%s: the header declares 0 points", path);
+        if (count > (len - 8) / 24)
+            return io_fail(err, IO_ERR_INPUT, "%s: the header claims %llu points, but the file "
+                           "holds only %zu bytes of coordinates (%zu points)", path,
+                           (unsigned long long)count, len - 8, (len - 8) / 24);
+        return io_fail(err, IO_ERR_INPUT, "%s: %zu bytes after the %llu points the header "
+                       "declares (byte offset %llu)", path, len - 8 - 24 * (size_t)count,
+                       (unsigned long long)count, (unsigned long long)(8 + 24 * count));
+    }
+    double *a = malloc((size_t)count * 24);
+    if (!a) {
+        close(fd);
+        return io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %llu points", path,
+                       (unsigned long long)count);
+    }
+    if (!read_full(fd, a, (size_t)count * 24)) {
+        int e = errno;
+        close(fd);
+        free(a);
+        return io_fail(err, IO_ERR_INPUT, "%s: read error: %s", path, e ? strerror(e) : "short read");
+    }
+    close(fd);
+    if ((s = bin_decode(path, a, (size_t)count, err)) != IO_OK) {
+        free(a);
+        return s;
+    }
+    *xyz = a;
+    *n = (size_t)count;
+    return IO_OK;
+}

@@ -1,0 +1,281 @@
+/* parallel.c -- concurrent insertion of one BRIO round on Moore-curve partitions (paper §4).
+ *
+ * A pass: the pending points of the round get Moore keys on a bounding box (the tight box in
+ * the first pass, an enlarged and shifted one in later passes), are sorted by key and cut into
+ * one slice per thread, never between equal keys.  The slice bounds colour every vertex of the
+ * mesh (colour = the slice its key falls in).  Thread k inserts the points of slice k, and an
+ * insertion goes ahead only if the walk and every tet of the cavity stay within tets whose
+ * finite vertices all have colour k (km_insert defers the point otherwise, having written
+ * nothing).  proofs/parallel.md shows that two threads then never write, or write and read,
+ * the same tet: a tet touched by thread k has three vertices of colour k, and two tets touched
+ * by different threads cannot share a facet.  Fresh slots come from per-thread blocks claimed
+ * with one atomic capture; the arrays grow only between passes.
+ *
+ * Adaptive, as in paper §4.2, with alpha = inserted / tried in the pass and n threads:
+ *   alpha <= 1/n       -> the rest of the round is inserted sequentially,
+ *   1/n < alpha <= 1/6 -> half the threads (reduction),
+ *   otherwise          -> same threads, new partitions on an enlarged, shifted box.
+ * Termination (proofs/termination.md): a parallel pass that goes on inserts more than a 1/n
+ * fraction of the pending points, so their number shrinks geometrically, and the sequential
+ * insertion (no colours) always succeeds.
+ */
+#include "parallel.h"
+
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../sort/sort.h"
+
+#define KEY_BITS 21           /* per axis: 63-bit Moore keys */
+#define MIN_PER_THREAD 2048   /* fewer points per thread: fewer threads */
+
+static uint64_t mix64(uint64_t z)
+{
+    z += 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+/* The box of pass `pass`: the tight box for pass 0; then enlarged by 1.5x-2.5x and shifted by
+ * a pseudo-random fraction of the growth on each axis, so that the slice boundaries move
+ * away from where the last pass's conflicts were (paper Fig. 2). */
+static void pass_box(const double tight[6], unsigned pass, double out[6])
+{
+    memcpy(out, tight, 6 * sizeof *out);
+    if (pass == 0) return;
+    uint64_t h = mix64(0x6b6579ULL + pass);
+    double f = 1.5 + (double)(pass % 3) * 0.5;
+    for (int d = 0; d < 3; d++) {
+        double e = tight[3 + d] - tight[d];
+        if (!(e > 0)) e = 1.0;
+        double shift = (double)((h >> (16 * d)) & 0xffff) / 65536.0;
+        out[d] = tight[d] - shift * (f - 1.0) * e;
+        out[3 + d] = out[d] + f * e;
+    }
+}
+
+gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads)
+{
+    memset(P, 0, sizeof *P);
+    P->m = m;
+    P->ctx = ctx;
+    P->threads = threads;
+    P->colour = malloc(m->nv ? m->nv : 1);
+    P->keys = malloc((m->nv ? m->nv : 1) * sizeof *P->keys);
+    if (!P->colour || !P->keys) return GTET_ERR_OUT_OF_MEMORY;
+    double *b = P->bbox;
+    b[0] = b[1] = b[2] = 0;
+    b[3] = b[4] = b[5] = 0;
+    for (size_t i = 0; i < m->nv; i++)
+        for (int d = 0; d < 3; d++) {
+            double x = m->v[3 * i + (size_t)d];
+            if (i == 0 || x < b[d]) b[d] = x;
+            if (i == 0 || x > b[3 + d]) b[3 + d] = x;
+        }
+    return GTET_OK;
+}
+
+void kpar_free(kpar *P)
+{
+    free(P->colour);
+    free(P->keys);
+    free(P->pk);
+    free(P->tk);
+    free(P->ti);
+    P->colour = NULL;
+    P->keys = NULL;
+    P->pk = P->tk = NULL;
+    P->ti = NULL;
+}
+
+/* Any live tet, for a serial insertion after parallel passes moved things around. */
+static void serial_start(kctx *c)
+{
+    const kmesh *m = c->m;
+    if (c->last < m->nt && !(m->tf[c->last] & KM_DELETED)) return;
+    for (size_t t = 0; t < m->nt; t++)
+        if (!(m->tf[t] & KM_DELETED)) {
+            c->last = (uint32_t)t;
+            return;
+        }
+}
+
+static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np)
+{
+    kctx *c = &P->ctx[0];
+    c->colour = NULL;
+    serial_start(c);
+    for (size_t i = 0; i < np; i++) {
+        int deferred;
+        gtet_status s = km_insert(c, pts[i], &deferred);
+        if (s != GTET_OK) return s;
+        if (deferred) return GTET_ERR_INTERNAL;  /* serial insertion never defers */
+        if (P->progress && ((P->done + i) & 0xffff) == 0)
+            P->progress(P->progress_user, (double)(P->done + i) / (double)P->total);
+    }
+    P->done += np;
+    return GTET_OK;
+}
+
+/* A live tet of this thread's colour to start walking from: its last tet if still good,
+ * else the first one found scanning from a slot proportional to its colour (tets are roughly
+ * in Moore order of creation).  Read-only; runs before the pass's barrier. */
+static int find_start(kctx *c, int nthreads)
+{
+    const kmesh *m = c->m;
+    if (c->last < m->nt && !(m->tf[c->last] & KM_DELETED) && km_owned(c, c->last)) return 1;
+    size_t nt = m->nt, from = nt / (size_t)nthreads * c->mine;
+    for (size_t k = 0; k < nt; k++) {
+        size_t t = (from + k) % nt;
+        if (!(m->tf[t] & KM_DELETED) && km_owned(c, (uint32_t)t)) {
+            c->last = (uint32_t)t;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* One parallel pass over pts[0..np) with `nth` threads; deferred points are moved to the front
+ * of pts and counted in *left. */
+static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, int nth, unsigned pass,
+                                 size_t *left, int *out_of_room)
+{
+    kmesh *m = P->m;
+    double box[6];
+    pass_box(P->bbox, pass, box);
+    /* keys of every vertex on this pass's curve */
+    sort_moore_keys(m->v, 3, m->nv, box, KEY_BITS, P->keys, nth);
+    for (size_t i = 0; i < np; i++) {
+        P->pk[i] = P->keys[pts[i]];
+    }
+    sort_radix_pairs(P->pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
+    /* slice bounds, moved forward past equal keys */
+    size_t begin[256], end[256];
+    uint64_t lo_key[256];
+    size_t prev = 0;
+    for (int k = 0; k < nth; k++) {
+        size_t b = prev, e = (k == nth - 1) ? np : np / (size_t)nth * (size_t)(k + 1);
+        if (e < b) e = b;
+        while (e < np && e > 0 && P->pk[e] == P->pk[e - 1]) e++;
+        begin[k] = b;
+        end[k] = e;
+        lo_key[k] = b < np ? P->pk[b] : UINT64_MAX;
+        prev = e;
+    }
+    /* colour = the slice whose key range holds the vertex's key; keys below the first slice's
+     * first key belong to the last slice (the Moore curve is a loop) */
+    const size_t nv = m->nv;
+    uint8_t *col = P->colour;
+    const uint64_t *keys = P->keys;
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (size_t v = 0; v < nv; v++) {
+        uint64_t key = keys[v];
+        int k = nth - 1;
+        while (k > 0 && (lo_key[k] == UINT64_MAX || key < lo_key[k])) k--;
+        if (key < lo_key[0]) k = nth - 1;
+        col[v] = (uint8_t)k;
+    }
+
+    int status = GTET_OK;  /* the first error of any thread (a gtet_status) */
+    size_t ndef[256];
+    int room = 0;
+#pragma omp parallel num_threads(nth)
+    {
+        int tid = omp_get_thread_num();
+        kctx *c = &P->ctx[tid];
+        c->colour = col;
+        c->mine = (uint8_t)tid;
+        c->out_of_room = 0;
+        int have_start = find_start(c, nth);
+#pragma omp barrier
+        size_t nd = 0;
+        for (size_t i = begin[tid]; i < end[tid]; i++) {
+            int deferred = 1;
+            gtet_status s = GTET_OK;
+            int failed;
+#pragma omp atomic read
+            failed = status;
+            if (have_start && !failed && !c->out_of_room) s = km_insert(c, pts[i], &deferred);
+            if (s != GTET_OK) {
+#pragma omp critical(gtet_status)
+                if (status == GTET_OK) status = (int)s;
+            }
+            if (deferred || s != GTET_OK) pts[begin[tid] + nd++] = pts[i];
+        }
+        gtet_status fs = km_flush_block(c);
+        if (fs != GTET_OK) {
+#pragma omp critical(gtet_status)
+            if (status == GTET_OK) status = (int)fs;
+        }
+        ndef[tid] = nd;
+        if (c->out_of_room) {
+#pragma omp atomic write
+            room = 1;
+        }
+        c->colour = NULL;
+    }
+    if (m->nt > m->cap) m->nt = m->cap;  /* failed block claims went past the end */
+    if (status != GTET_OK) return (gtet_status)status;
+    size_t n = 0;
+    for (int k = 0; k < nth; k++) {
+        memmove(pts + n, pts + begin[k], ndef[k] * sizeof *pts);
+        n += ndef[k];
+    }
+    *left = n;
+    *out_of_room = room;
+    return GTET_OK;
+}
+
+gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
+{
+    kmesh *m = P->m;
+    memset(rs, 0, sizeof *rs);
+    rs->points = np;
+    int nth = P->threads;
+    if (nth > 255) nth = 255;
+    unsigned pass = 0;
+    if (np > P->cap_pending) {
+        free(P->pk);
+        free(P->tk);
+        free(P->ti);
+        P->pk = malloc(np * sizeof *P->pk);
+        P->tk = malloc(np * sizeof *P->tk);
+        P->ti = malloc(np * sizeof *P->ti);
+        if (!P->pk || !P->tk || !P->ti) return GTET_ERR_OUT_OF_MEMORY;
+        P->cap_pending = np;
+    }
+    while (np > 0) {
+        while (nth > 1 && np < (size_t)nth * MIN_PER_THREAD) nth /= 2;
+        rs->passes++;
+        rs->threads = nth;
+        if (nth <= 1) {
+            rs->tried += np;
+            rs->inserted += np;
+            return insert_serial(P, pts, np);
+        }
+        /* room for this pass: about 7 new tets per point, plus a block per thread */
+        gtet_status s = km_reserve(m, m->nt + 8 * np + (size_t)nth * 2 * KM_SLOT_BLOCK);
+        if (s == GTET_ERR_TOO_LARGE) s = km_reserve(m, KM_MAX_SLOTS);
+        if (s != GTET_OK) return s;
+        size_t left = 0;
+        int out_of_room = 0;
+        s = pass_parallel(P, pts, np, nth, pass, &left, &out_of_room);
+        if (s != GTET_OK) return s;
+        size_t inserted = np - left;
+        P->done += inserted;
+        if (P->progress) P->progress(P->progress_user, (double)P->done / (double)P->total);
+        rs->tried += np;
+        rs->inserted += inserted;
+        rs->deferred += left;
+        double alpha = (double)inserted / (double)np;
+        np = left;
+        pass++;
+        if (out_of_room && inserted == 0 && m->cap >= KM_MAX_SLOTS) return GTET_ERR_TOO_LARGE;
+        if (alpha <= 1.0 / nth) nth = 1;           /* sequential */
+        else if (alpha <= 1.0 / 6.0) nth /= 2;     /* reduction */
+        /* else: box expansion, same threads, next pass */
+    }
+    return GTET_OK;
+}

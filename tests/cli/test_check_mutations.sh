@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# test_check_mutations.sh -- `gigatet check` catches a corrupted mesh (issue 5, "the checker is
+# checked"): take a valid .ele/.node and swap two vertices of a tet, drop a tet, duplicate a
+# tet, move a vertex, rewire a tet to another tet's vertex -> exit 5 each time; the untouched
+# mesh passes.  Needs the real checker (gtet_check_arrays) and kernel.
+. "$(dirname "$0")/common.sh"
+cd "$W"
+"$G" generate ball 120 --seed 4 -o in.bin -q || fail "generate"
+expect 0 "" -- "$G" triangulate in.bin -o m.ele
+expect 0 "" -- "$G" check m.ele --points in.bin
+
+mutant() {  # NAME AWK-PROGRAM-ON-.ele [AWK-PROGRAM-ON-.node]
+    local name=$1
+    awk "$2" m.ele > "$name.ele"
+    if [ -n "${3:-}" ]; then awk "$3" m.node > "$name.node"; else cp m.node "$name.node"; fi
+    cmp -s m.ele "$name.ele" && cmp -s m.node "$name.node" && fail "mutation $name changed nothing"
+    expect 5 "check failed" -- "$G" check "$name.ele"
+}
+# .ele lines: header "T 4 0", then "id a b c d" (1-based), then a comment
+mutant swapped   'NR == 2 { t = $3; $3 = $4; $4 = t } { print }'
+mutant dropped   'NR == 1 { $1 = $1 - 1 } NR == 2 { next } NR > 2 && /^[0-9]/ { $1 = $1 - 1 } { print }'
+mutant duplicated 'NR == 1 { $1 = $1 + 1 } /^#/ { print n + 1, a, b, c, d } NR == 2 { a = $2; b = $3; c = $4; d = $5 } NR > 1 && /^[0-9]/ { n = $1 } { print }'
+# tet 1 gets a vertex of the last tet that it does not have
+last=$(awk 'NR > 2 && /^[0-9]/ { l = $2 " " $3 " " $4 " " $5 } END { print l }' m.ele)
+mutant rewired   'NR == 2 { split("'"$last"'", L, " "); for (k = 1; k <= 4; k++) { v = L[k]; if (v != $2 && v != $3 && v != $4 && v != $5) { $2 = v; break } } } { print }'
+mutant moved     '{ print }' 'NR == 2 { $2 = $2 + 50 } { print }'
+# with --points, a moved vertex also no longer matches the input point set
+cp m.ele moved_in.ele
+awk 'NR == 2 { $2 = $2 + 1e-9 } { print }' m.node > moved_in.node
+expect 5 "check failed" -- "$G" check moved_in.ele --points in.bin
+finish

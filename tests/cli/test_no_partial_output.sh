@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# test_no_partial_output.sh -- a failed run leaves no output file and no temporary behind,
+# and an existing output survives a failed run untouched; the mesh never overwrites its input.
+# Needs the kernel for the degenerate-input case.
+. "$(dirname "$0")/common.sh"
+cd "$W"
+mkdir out
+"$G" generate uniform 200 -o in.xyz -q || fail "generate"
+printf '0 0 0\n1 0 0\n0 1 0\n1 1 0\n' > flat.xyz
+printf '0 0 0\n1 0 0\n0 1\n0 0 1\n' > bad.xyz
+
+for o in ele msh vtu; do
+    expect 2 "bad.xyz:3:" -- "$G" triangulate bad.xyz -o "out/m.$o"
+    expect 3 "flat.xyz" -- "$G" triangulate flat.xyz -o "out/m.$o"
+    expect 2 "out/nodir/m.$o" -- "$G" triangulate in.xyz -o "out/nodir/m.$o"
+    expect 2 "in.xyz/m.$o" -- "$G" triangulate in.xyz -o "in.xyz/m.$o"
+done
+expect 2 "out/nodir/p.bin" -- "$G" generate uniform 10 -o out/nodir/p.bin
+[ -z "$(listing out)" ] || fail "failed runs left: $(listing out)"
+
+# a read-only directory (root ignores permissions, so this case needs an ordinary user)
+if [ "$(id -u)" -ne 0 ]; then
+    mkdir ro && chmod 555 ro
+    expect 2 "ro/m.ele" -- "$G" triangulate in.xyz -o ro/m.ele
+    expect 2 "ro/p.xyz" -- "$G" generate uniform 10 -o ro/p.xyz
+    [ -z "$(listing ro)" ] || fail "read-only directory holds: $(listing ro)"
+else
+    echo "NOTE: running as root, which ignores directory permissions: the read-only-directory case is covered by the missing-directory and not-a-directory cases above"
+fi
+
+# the .ele's rename fails (a directory has its name): its .node must not stay behind
+mkdir out/m.ele
+expect 2 "out/m.ele" -- "$G" triangulate in.xyz -o out/m.ele
+[ "$(listing out)" = "m.ele " ] || fail "after a failed .ele rename: $(listing out)"
+rmdir out/m.ele
+
+# an existing output survives failed runs byte for byte
+echo "precious" > out/keep.msh
+expect 2 "bad.xyz" -- "$G" triangulate bad.xyz -o out/keep.msh
+expect 3 "flat.xyz" -- "$G" triangulate flat.xyz -o out/keep.msh
+[ "$(cat out/keep.msh)" = precious ] || fail "a failed run changed an existing output"
+expect 0 "" -- "$G" triangulate in.xyz -o out/keep.msh
+grep -q '^\$MeshFormat' out/keep.msh || fail "a successful run did not replace the output"
+[ "$(listing out)" = "keep.msh " ] || fail "temporaries left: $(listing out)"
+
+# the mesh must not overwrite its own input (NAME.node for NAME.ele)
+cp in.xyz tmp.xyz
+"$G" generate uniform 50 -o pts.node -q
+cp pts.node pts.node.orig
+expect 1 "overwrite the input" -- "$G" triangulate pts.node -o pts.ele
+cmp -s pts.node pts.node.orig || fail "the input .node was overwritten"
+[ ! -e pts.ele ] || fail "pts.ele written although the run was refused"
+finish

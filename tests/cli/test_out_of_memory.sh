@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# test_out_of_memory.sh -- under an address-space limit (ulimit -v) running out of memory is
+# exit code 4 with a message, and leaves no output.  Two cases: the reader cannot allocate
+# the points (does not need the kernel), and the kernel cannot allocate its mesh (needs the
+# kernel: 1M points need well over 150 MB of tets, the input only 24 MB).
+# Skipped loudly under sanitizers: ASan/TSan reserve terabytes of address space.
+. "$(dirname "$0")/common.sh"
+cd "$W"
+case "${GTET_SANITIZE:-OFF}${GTET_TSAN:-OFF}" in
+    *ON*|*1*|*TRUE*|*true*) skip_loudly "sanitizer build: ulimit -v cannot limit an ASan/TSan process" ;;
+esac
+"$G" generate uniform 1000000 --seed 2 -o big.bin -q || fail "generate 1M"
+(ulimit -v 200000 && "$G" --version >/dev/null) || skip_loudly "the binary does not even start under ulimit -v 200000"
+
+# the reader: 24 MB of points under a 30 MB limit (the binary itself needs a few MB)
+lim=30000
+(ulimit -v "$lim" && "$G" --version >/dev/null) || lim=40000
+expect 4 "out of memory" -- bash -c "ulimit -v $lim && exec \"$G\" triangulate big.bin -o out.ele"
+[ ! -e out.ele ] && [ ! -e out.node ] || fail "an out-of-memory run left output"
+
+# the kernel: enough for the input, not for 6.5M tets
+expect 4 "out of memory" -- bash -c "ulimit -v 150000 && exec \"$G\" triangulate big.bin -t 1 -o out.ele"
+[ -z "$(ls -A | grep -v '^big.bin$')" ] || fail "an out-of-memory run left: $(listing .)"
+finish
