@@ -184,6 +184,8 @@ typedef struct gtet_stats {
     double seconds_total;
     uint64_t tets_created;      /* tets written by cavities, ghosts included */
     uint64_t walk_steps;        /* visibility-walk steps */
+    uint64_t walk_fallbacks;    /* walks that ran out of steps and fell back to a linear scan
+                                   (never expected: proofs/termination.md T1.4) */
     size_t bytes_per_tet;       /* the mesh arrays' bytes per tet (struct of arrays) */
     size_t peak_bytes;          /* the kernel's own peak allocation */
     int threads;                /* threads used */

@@ -149,6 +149,7 @@ static void check_set(const char *name, double *p, size_t n, int threads)
 
 /* ---- tests -------------------------------------------------------------------------------- */
 
+/* Exercises proofs/perturbation.md P4, proofs/termination.md T1. */
 static void test_random_sets_of_many_sizes_pass_the_exact_checker(void)
 {
     const size_t sizes[] = {4, 5, 6, 7, 10, 20, 50, 100, 300, 1000, 5000, 30000};
@@ -159,6 +160,7 @@ static void test_random_sets_of_many_sizes_pass_the_exact_checker(void)
     }
 }
 
+/* Exercises proofs/perturbation.md P3, proofs/termination.md T1. */
 static void test_integer_grids_every_insphere_degenerate_are_perturbed_consistently(void)
 {
     for (int k = 2; k <= 12; k += (k < 5 ? 1 : 7)) {
@@ -169,6 +171,7 @@ static void test_integer_grids_every_insphere_degenerate_are_perturbed_consisten
     }
 }
 
+/* Exercises proofs/perturbation.md P4, proofs/termination.md T2. */
 static void test_cospherical_integer_points_are_triangulated_uniquely(void)
 {
     const int r2s[] = {3, 9, 25, 50, 101, 325};
@@ -180,6 +183,7 @@ static void test_cospherical_integer_points_are_triangulated_uniquely(void)
     }
 }
 
+/* Exercises proofs/perturbation.md P4, proofs/termination.md T2. */
 static void test_cube_corners_and_centre(void)
 {
     double p[27];
@@ -193,6 +197,7 @@ static void test_cube_corners_and_centre(void)
     check_set("cube corners + centre", p, 9, 1);
 }
 
+/* Exercises proofs/perturbation.md P6 (hull faces in any order). */
 static void test_lattices_paraboloid_and_plane_with_denormal_apex(void)
 {
     size_t n = 0;
@@ -371,6 +376,101 @@ static void test_check_option_runs_the_checker(void)
     free(p);
 }
 
+/* proofs/termination.md T1.4: the visibility walk never needs its scan fallback. */
+static void test_walks_never_fall_back_to_the_scan(void)
+{
+    size_t n;
+    double *sets[3];
+    size_t sizes[3];
+    sets[0] = uniform(20000, 31);
+    sizes[0] = 20000;
+    sets[1] = grid(20, &n);
+    sizes[1] = n;
+    sets[2] = cospherical(325, &n);
+    sizes[2] = n;
+    for (int k = 0; k < 3; k++) {
+        for (int th = 1; th <= 2; th++) {
+            gtet_options o;
+            gtet_options_init(&o);
+            o.threads = th;
+            gtet_mesh *m = NULL;
+            TEST_REQUIRE(gtet_triangulate(sets[k], sizes[k], &o, &m) == GTET_OK, "set %d fails", k);
+            gtet_stats st;
+            gtet_mesh_stats(m, &st);
+            TEST_CHECK(st.walk_fallbacks == 0, "set %d, %d threads: %llu walk fallbacks", k, th,
+                       (unsigned long long)st.walk_fallbacks);
+            TEST_CHECK(st.walk_steps > 0, "set %d: no walk steps counted", k);
+            gtet_mesh_free(&m);
+        }
+        free(sets[k]);
+    }
+}
+
+/* proofs/termination.md T3, T4: every distinct point inserted once; one thread defers nothing. */
+static void test_rounds_insert_every_point_once_and_one_thread_defers_nothing(void)
+{
+    double *p = uniform(60000, 41);
+    for (int th = 1; th <= 2; th++) {
+        gtet_options o;
+        gtet_options_init(&o);
+        o.threads = th;
+        gtet_mesh *m = NULL;
+        TEST_REQUIRE(gtet_triangulate(p, 60000, &o, &m) == GTET_OK, "triangulate fails");
+        gtet_stats st;
+        gtet_mesh_stats(m, &st);
+        uint64_t sum = 0;
+        for (int r = 0; r < st.num_rounds; r++) {
+            const gtet_round_stats *rs = &st.rounds[r];
+            sum += rs->inserted;
+            TEST_CHECK(rs->inserted == rs->points, "round %d: %llu of %llu inserted", r,
+                       (unsigned long long)rs->inserted, (unsigned long long)rs->points);
+            if (th == 1)
+                TEST_CHECK(rs->deferred == 0 && rs->passes == 1 && rs->tried == rs->points,
+                           "one thread, round %d: %llu deferred in %d passes", r,
+                           (unsigned long long)rs->deferred, rs->passes);
+        }
+        TEST_CHECK(sum + 4 == gtet_mesh_num_vertices(m), "%d threads: %llu inserted + 4 != %zu",
+                   th, (unsigned long long)sum, gtet_mesh_num_vertices(m));
+        gtet_mesh_free(&m);
+    }
+    free(p);
+}
+
+/* proofs/termination.md T5: with 2 threads a round ends within log2(points) + 2 passes, and
+ * the big rounds really run on 2 threads. */
+static void test_parallel_rounds_end_within_the_pass_bound(void)
+{
+    size_t n;
+    double *sets[2];
+    size_t sizes[2];
+    sets[0] = uniform(100000, 51);
+    sizes[0] = 100000;
+    sets[1] = grid(40, &n);
+    sizes[1] = n;
+    for (int k = 0; k < 2; k++) {
+        gtet_options o;
+        gtet_options_init(&o);
+        o.threads = 2;
+        gtet_mesh *m = NULL;
+        TEST_REQUIRE(gtet_triangulate(sets[k], sizes[k], &o, &m) == GTET_OK, "set %d fails", k);
+        gtet_stats st;
+        gtet_mesh_stats(m, &st);
+        int parallel_rounds = 0;
+        for (int r = 0; r < st.num_rounds; r++) {
+            const gtet_round_stats *rs = &st.rounds[r];
+            double bound = 2.0;
+            for (uint64_t q = rs->points; q > 1; q /= 2) bound += 1.0;
+            TEST_CHECK(rs->passes <= bound, "set %d round %d: %d passes for %llu points", k, r,
+                       rs->passes, (unsigned long long)rs->points);
+            TEST_CHECK(rs->inserted == rs->points, "set %d round %d: not all inserted", k, r);
+            if (rs->threads == 2) parallel_rounds++;
+        }
+        TEST_CHECK(parallel_rounds >= 1, "set %d: no round used 2 threads", k);
+        gtet_mesh_free(&m);
+        free(sets[k]);
+    }
+}
+
 int main(void)
 {
     TU_RUN(test_random_sets_of_many_sizes_pass_the_exact_checker);
@@ -383,5 +483,8 @@ int main(void)
     TU_RUN(test_degenerate_input_reports_its_dimension);
     TU_RUN(test_nan_and_inf_name_the_input_index);
     TU_RUN(test_check_option_runs_the_checker);
+    TU_RUN(test_walks_never_fall_back_to_the_scan);
+    TU_RUN(test_rounds_insert_every_point_once_and_one_thread_defers_nothing);
+    TU_RUN(test_parallel_rounds_end_within_the_pass_bound);
     return tu_finish();
 }

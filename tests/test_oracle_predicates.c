@@ -143,6 +143,7 @@ static void cube(double c[8][3])
     }
 }
 
+/* Exercises proofs/perturbation.md P1. */
 static void test_cube_corners_are_cospherical_and_centre_inside(void)
 {
     double c[8][3];
@@ -166,6 +167,7 @@ static void test_cube_corners_are_cospherical_and_centre_inside(void)
     TEST_CHECK(tets == 58 * 24, "expected 58 non-degenerate corner 4-sets, got %d/24", tets);
 }
 
+/* Exercises proofs/perturbation.md P1. */
 static void test_insphere_sos_hand_traced_cube_cases(void)
 {
     /* Traced by hand through CGAL's side_of_oriented_sphere with perturb=true. */
@@ -188,6 +190,7 @@ static void test_insphere_sos_hand_traced_cube_cases(void)
 static const int PERM_ODD[6][4] = {{1, 0, 2, 3}, {0, 2, 1, 3}, {0, 1, 3, 2},
                                    {3, 1, 2, 0}, {2, 1, 0, 3}, {1, 2, 3, 0}};
 
+/* Exercises proofs/perturbation.md P2, P3. */
 static void test_insphere_sos_on_cube_is_never_zero_and_antisymmetric(void)
 {
     double c[8][3];
@@ -213,6 +216,7 @@ static void test_insphere_sos_on_cube_is_never_zero_and_antisymmetric(void)
 
 /* Two tets sharing facet (a,b,c) with apexes d (t1 = (a,b,c,d)) and e on the other side: the
  * perturbed test of e against t1 equals that of d against t2 = (a,c,b,e) (both positive). */
+/* Exercises proofs/perturbation.md P3, P6. */
 static void test_insphere_sos_agrees_from_both_sides_of_a_facet_on_a_grid(void)
 {
     tu_rng r = {7};
@@ -283,6 +287,7 @@ static void test_predicates_equal_naive_mpq_reference_on_adversarial_families(vo
     TEST_CHECK(zeros > 20, "the families produced only %d exact zeros", zeros);
 }
 
+/* Exercises proofs/perturbation.md P5. */
 static void test_ghost_conflict_hand_cases(void)
 {
     /* Facet (0, ey, ex) has orient3d < 0 for points above z = 0: the hull side. */
@@ -306,6 +311,7 @@ static void test_ghost_conflict_hand_cases(void)
     TEST_CHECK(orc_coplanar_circle_sos(v0, v1, v2, vin) == 1, "inside a vertical circle");
 }
 
+/* Exercises proofs/perturbation.md P5. */
 static void test_coplanar_circle_sos_is_symmetric_in_the_facet_and_never_zero(void)
 {
     /* The four corners of squares in the three coordinate planes: all cocircular. */

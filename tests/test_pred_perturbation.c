@@ -27,6 +27,7 @@ static const double cube[8][3] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, {0, 1, 1},
                                   {1, 0, 0}, {1, 0, 1}, {1, 1, 0}, {1, 1, 1}};
 
 /* Worked by hand with CGAL's rule (lexicographic order of corners = index order above). */
+/* Exercises proofs/perturbation.md P1. */
 static void test_insphere_sos_hand_checked_cube_cases(void)
 {
     const double o[3] = {0, 0, 0}, x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1};
@@ -89,6 +90,7 @@ static int check_sos_tuple(const double (*q)[3])
     return bad;
 }
 
+/* Exercises proofs/perturbation.md P2. */
 static void test_insphere_sos_on_all_5_subsets_of_cube_corners(void)
 {
     int tuples = 0;
@@ -109,6 +111,7 @@ static void test_insphere_sos_on_all_5_subsets_of_cube_corners(void)
     TEST_CHECK(tuples == 56 * 5, "tuples %d", tuples);
 }
 
+/* Exercises proofs/perturbation.md P2. */
 static void test_insphere_sos_on_cospherical_lattice_points_and_small_grid(void)
 {
     static int64_t lat[2048][3];
@@ -178,6 +181,7 @@ static void plane_point(tu_rng *r, int kind, double *p)
     }
 }
 
+/* Exercises proofs/perturbation.md P5. */
 static void test_ghost_conflict_is_never_zero_and_consistent_with_coplanar_circle(void)
 {
     tu_rng r = {12};
@@ -217,6 +221,7 @@ static void test_ghost_conflict_is_never_zero_and_consistent_with_coplanar_circl
 }
 
 /* The coplanar in-circle at extreme scales (expansion-free GMP path) equals the oracle. */
+/* Exercises proofs/perturbation.md P5. */
 static void test_ghost_conflict_at_extreme_scales_matches_oracle(void)
 {
     tu_rng r = {13};

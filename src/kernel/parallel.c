@@ -18,6 +18,16 @@
  * Termination (proofs/termination.md): a parallel pass that goes on inserts more than a 1/n
  * fraction of the pending points, so their number shrinks geometrically, and the sequential
  * insertion (no colours) always succeeds.
+ *
+ * Obligations of proofs/parallel.md, where they are met: O1 colours and slice bounds computed
+ * before the region, slices never split equal keys (pass_parallel); O2 ownership checked before
+ * a tet is marked dead, O8 no scan fallback, O10 rollback (km_insert / walk / rollback in
+ * insert.c); O3 one thread: no colours (insert_serial); O4 start tets found read-only before the
+ * region's barrier (find_start); O5 slots from free lists and atomic block claims that never pass
+ * the capacity (ensure_room); O6 arrays grow only between passes (kpar_round); O7 the retry
+ * policy above (kpar_round); O9 vloc only for the cavity's own vertices (adjacency_fast);
+ * O11 first error in a shared status (critical), read atomically between insertions; O12 per-
+ * thread counters, the slot counter is the only shared one (atomic).
  */
 #include "parallel.h"
 

@@ -175,6 +175,7 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
         add_counters(&res->stats.pred, &ctx[k].cnt);
         res->stats.tets_created += ctx[k].tets_created;
         res->stats.walk_steps += ctx[k].walk_steps;
+        res->stats.walk_fallbacks += ctx[k].walk_fallbacks;
         kctx_free(&ctx[k]);
     }
     free(ctx);
