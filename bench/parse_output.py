@@ -41,7 +41,7 @@ def gigatet(text, wall, cpu):
             if secs is None:
                 for k in ("seconds", "time", "times"):
                     if isinstance(obj.get(k), dict):
-                        secs = find_key(obj[k], ("total",))
+                        secs = find_key(obj[k], ("total", "kernel"))
             tets = find_key(obj, ("tets", "num_tets", "tetrahedra"))
         except ValueError:
             pass

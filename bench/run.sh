@@ -12,7 +12,7 @@
 #   cgal_par2  the same with Parallel_tag, Spatial_lock_grid_3 and 2 TBB threads
 #   tetgen     Debian's tetgen -NEF (Delaunay only, nothing written); its "Delaunay seconds"
 #   hxt1 hxt2  HXT via Debian's libgmsh: tetrahedralize() with Mesh.Algorithm3D = 10
-#   gigatet1 gigatet2   build/gigatet triangulate FILE.bin -t T --stats -q
+#   gigatet1 gigatet2   build/gigatet triangulate FILE.bin -t T --stats
 # Runs are interleaved: for each repetition, every input, every tool -- so a slow phase of the
 # (shared) machine hits all tools alike.  Seconds are each tool's own timing of the meshing
 # (file reading excluded), both wall and process CPU time (all threads): on this shared
@@ -103,8 +103,8 @@ tool_cmd() {  # tool input -> sets the array cmd (paths with spaces stay one wor
     tetgen) cmd=(tetgen -NEF "$data/$in.node") ;;
     hxt1) cmd=("$build/bench/hxt_peer" -t 1 "$data/$in.bin") ;;
     hxt2) cmd=("$build/bench/hxt_peer" -t 2 "$data/$in.bin") ;;
-    gigatet1) cmd=("$build/gigatet" triangulate "$data/$in.bin" -t 1 --stats -q) ;;
-    gigatet2) cmd=("$build/gigatet" triangulate "$data/$in.bin" -t 2 --stats -q) ;;
+    gigatet1) cmd=("$build/gigatet" triangulate "$data/$in.bin" -t 1 --stats) ;;
+    gigatet2) cmd=("$build/gigatet" triangulate "$data/$in.bin" -t 2 --stats) ;;
   esac
 }
 active=""
