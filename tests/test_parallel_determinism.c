@@ -283,7 +283,7 @@ static void test_cospherical_integer_points_give_the_same_tets_in_parallel(void)
     size_t n = 0;
     double *p = cospherical(SPHERE_M, &n);
     TEST_REQUIRE(p != NULL, "out of memory");
-    TEST_REQUIRE(n >= 10000, "only %zu co-spherical points: too few for parallel rounds", n);
+    TEST_REQUIRE(n >= 8192, "only %zu co-spherical points: too few for parallel rounds", n);
     same_tets_for_every_thread_count_and_order("cospherical", p, n);
     free(p);
 }
