@@ -162,7 +162,12 @@ static gtet_status walk(kctx *c, const double *p, uint32_t *found)
         entry = m->tn[4 * (size_t)t + 3];
         t = entry >> 2;
     }
-    uint64_t budget = 64 + 4 * (uint64_t)m->nt;
+    /* m->nt is bumped by other threads' atomic captures (ensure_room) during a parallel
+     * pass: read it atomically too (a plain read would be a data race; ThreadSanitizer). */
+    size_t nt_now;
+#pragma omp atomic read
+    nt_now = m->nt;
+    uint64_t budget = 64 + 4 * (uint64_t)nt_now;
     for (uint64_t step = 0; step < budget; step++) {
         if (km_is_ghost(m, t)) {  /* entered through its finite facet, strictly beyond */
             *found = t;

@@ -1,0 +1,297 @@
+/* test_parallel_determinism.c -- the parallel kernel's output does not depend on the thread
+ * count nor on the input order (issue 4, "Evidence it is right").
+ *
+ * gigatet's output is THE perturbed Delaunay tetrahedrization of the distinct input points
+ * (gigatet.h; proofs/perturbation.md: unique under the lexicographic symbolic perturbation),
+ * so every run must produce the same set of tets.  For each point set this test triangulates
+ * with threads = 1, 2, 3, 4 and 8 and a shuffled copy with threads = 4, maps every tet to the
+ * input indices of its vertices (the smallest original index among the input points that map
+ * to a vertex), sorts each tet's four indices and then the list, and requires identical
+ * lists.  The 4-thread result passes the exact checker (gtet_check; every other run has the
+ * same tets, and the checker costs 10-20 s per set on this machine), and the per-round statistics
+ * (gtet_mesh_stats -> rounds[k].threads) must show that a round really ran on more than one
+ * thread -- the kernel only splits a round with >= 2048 points per thread (src/kernel/
+ * parallel.c), hence the sizes: 200k random points, a 30^3 integer grid (every insphere of a
+ * cube is exactly 0: the perturbation decides) and ~14k integer points of one sphere.
+ * Under a sanitizer (ASan / TSan, several times slower) the sets are 10k-40k points, still
+ * enough for 2-4 threads per round.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "gigatet.h"
+#include "testutil.h"
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define GTET_TEST_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define GTET_TEST_SANITIZED 1
+#endif
+#endif
+#ifdef GTET_TEST_SANITIZED
+enum { N_RANDOM = 40000, GRID_K = 24, SPHERE_M = 3003 };
+static const int THREADS[] = {1, 2, 3, 4};
+#else
+enum { N_RANDOM = 200000, GRID_K = 30, SPHERE_M = 4641 };
+static const int THREADS[] = {1, 2, 3, 4, 8};
+#endif
+#define NTHREADS (sizeof THREADS / sizeof *THREADS)
+
+/* ---- point sets -------------------------------------------------------------------------- */
+
+static double *uniform(size_t n, uint64_t seed)
+{
+    tu_rng r = {seed};
+    double *p = malloc(3 * n * sizeof *p);
+    for (size_t i = 0; p && i < 3 * n; i++) p[i] = tu_uniform(&r);
+    return p;
+}
+
+static double *grid(int k, size_t *n)
+{
+    *n = (size_t)k * k * k;
+    double *p = malloc(3 * *n * sizeof *p), *q = p;
+    for (int x = 0; p && x < k; x++)
+        for (int y = 0; y < k; y++)
+            for (int z = 0; z < k; z++) {
+                *q++ = x;
+                *q++ = y;
+                *q++ = z;
+            }
+    return p;
+}
+
+static int cmp_xyz(const void *a, const void *b)
+{
+    const double *p = a, *q = b;
+    for (int i = 0; i < 3; i++)
+        if (p[i] != q[i]) return p[i] < q[i] ? -1 : 1;
+    return 0;
+}
+
+/* Integer points of the sphere of radius m centred at 0, from Euler's parametrisation of
+ * the quaternions q = (a,b,c,d) with a^2+b^2+c^2+d^2 = m: the point
+ * (a^2+b^2-c^2-d^2, 2(ad+bc), 2(bd-ac)) has norm m exactly (all values < 2^53: exact).
+ * Duplicates (q and -q give the same point) are removed. */
+static double *cospherical(int m, size_t *n)
+{
+    size_t cap = 1024, k = 0;
+    double *p = malloc(3 * cap * sizeof *p);
+    int r = 0;
+    while ((r + 1) * (r + 1) <= m) r++;
+    for (int a = -r; p && a <= r; a++)
+        for (int b = -r; b <= r; b++) {
+            int ab = a * a + b * b;
+            if (ab > m) continue;
+            for (int c = -r; c <= r; c++) {
+                int rest = m - ab - c * c;
+                if (rest < 0) continue;
+                int d = 0;
+                while ((d + 1) * (d + 1) <= rest) d++;
+                if (d * d != rest) continue;
+                for (int sd = -1; sd <= 1; sd += 2) {
+                    if (d == 0 && sd > 0) continue;
+                    int dd = sd * d;
+                    if (k == cap) {
+                        double *np = realloc(p, 3 * (cap *= 2) * sizeof *p);
+                        if (!np) {
+                            free(p);
+                            return NULL;
+                        }
+                        p = np;
+                    }
+                    p[3 * k] = (double)a * a + (double)b * b - (double)c * c - (double)dd * dd;
+                    p[3 * k + 1] = 2.0 * ((double)a * dd + (double)b * c);
+                    p[3 * k + 2] = 2.0 * ((double)b * dd - (double)a * c);
+                    k++;
+                }
+            }
+        }
+    if (!p) return NULL;
+    qsort(p, k, 3 * sizeof *p, cmp_xyz);
+    size_t w = 0;
+    for (size_t i = 0; i < k; i++)
+        if (w == 0 || cmp_xyz(p + 3 * (w - 1), p + 3 * i) != 0) memmove(p + 3 * w++, p + 3 * i, 3 * sizeof *p);
+    /* a reproducible shuffle: the input order should not be the sorted one */
+    tu_rng rng = {4242};
+    for (size_t i = w; i > 1; i--) {
+        size_t j = tu_below(&rng, i);
+        double t[3];
+        memcpy(t, p + 3 * (i - 1), sizeof t);
+        memcpy(p + 3 * (i - 1), p + 3 * j, sizeof t);
+        memcpy(p + 3 * j, t, sizeof t);
+    }
+    *n = w;
+    return p;
+}
+
+/* ---- canonical tet lists ----------------------------------------------------------------- */
+
+static int cmp_u32x4(const void *a, const void *b)
+{
+    const uint32_t *x = a, *y = b;
+    for (int i = 0; i < 4; i++)
+        if (x[i] != y[i]) return x[i] < y[i] ? -1 : 1;
+    return 0;
+}
+
+/* The tets as sorted 4-tuples of original input indices (orig[i]: original index of input
+ * position i), the list sorted.  NULL on allocation failure. */
+static uint32_t *canonical(const gtet_mesh *m, const uint32_t *orig, size_t n)
+{
+    size_t nv = gtet_mesh_num_vertices(m), nt = gtet_mesh_num_tets(m);
+    const uint32_t *map = gtet_mesh_input_map(m), *t = gtet_mesh_tets(m);
+    uint32_t *first = malloc((nv ? nv : 1) * sizeof *first);
+    uint32_t *c = malloc((nt ? 4 * nt : 1) * sizeof *c);
+    if (!first || !c) {
+        free(first);
+        free(c);
+        return NULL;
+    }
+    for (size_t v = 0; v < nv; v++) first[v] = UINT32_MAX;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t o = orig ? orig[i] : (uint32_t)i;
+        if (o < first[map[i]]) first[map[i]] = o;
+    }
+    for (size_t i = 0; i < 4 * nt; i++) c[i] = first[t[i]];
+    for (size_t i = 0; i < nt; i++) {
+        uint32_t *q = c + 4 * i;
+        for (int a = 1; a < 4; a++)
+            for (int b = a; b > 0 && q[b] < q[b - 1]; b--) {
+                uint32_t tmp = q[b];
+                q[b] = q[b - 1];
+                q[b - 1] = tmp;
+            }
+    }
+    qsort(c, nt, 4 * sizeof *c, cmp_u32x4);
+    free(first);
+    return c;
+}
+
+/* Triangulate p with `threads`, check exactly, return the canonical list (and its length);
+ * *max_threads = the most threads any round used. */
+static uint32_t *run(const char *name, const double *p, size_t n, const uint32_t *orig,
+                     int threads, int check, size_t *nt, int *max_threads)
+{
+    gtet_options o;
+    gtet_error err;
+    gtet_options_init(&o);
+    o.threads = threads;
+    o.error = &err;
+    gtet_mesh *m = NULL;
+    gtet_status s = gtet_triangulate(p, n, &o, &m);
+    if (s != GTET_OK) {
+        tu_fail(__FILE__, __LINE__, "%s, %d threads: status %d: %s", name, threads, (int)s,
+                err.message);
+        return NULL;
+    }
+    if (check) {
+        gtet_check_report rep;
+        s = gtet_check(m, p, n, 0, &rep);
+        TEST_CHECK(s == GTET_OK && rep.ok, "%s, %d threads: check failed: %s", name, threads,
+                   rep.message);
+    }
+    gtet_stats st;
+    gtet_mesh_stats(m, &st);
+    *max_threads = 1;
+    for (int k = 0; k < st.num_rounds; k++) {
+        const gtet_round_stats *r = &st.rounds[k];
+        TEST_CHECK(r->inserted <= r->points && r->tried >= r->inserted,
+                   "%s, %d threads, round %d: inconsistent counters", name, threads, k);
+        TEST_CHECK(r->threads >= 1 && r->threads <= threads,
+                   "%s: round %d used %d threads of %d", name, k, r->threads, threads);
+        /* rounds[k].threads is the thread count of the round's last pass; a round that needed
+         * several passes ran its earlier ones in parallel (a sequential pass is always the
+         * last: it inserts every pending point) */
+        int used = r->passes > 1 && r->threads < 2 ? 2 : r->threads;
+        if (used > *max_threads) *max_threads = used;
+    }
+    *nt = gtet_mesh_num_tets(m);
+    uint32_t *c = canonical(m, orig, n);
+    gtet_mesh_free(&m);
+    TEST_CHECK(c != NULL, "%s: out of memory", name);
+    return c;
+}
+
+static void same_tets_for_every_thread_count_and_order(const char *name, const double *p,
+                                                       size_t n)
+{
+    size_t nt1 = 0;
+    int mt = 0;
+    uint32_t *ref = run(name, p, n, NULL, 1, 0, &nt1, &mt);
+    if (!ref) return;
+    TEST_CHECK(nt1 > n, "%s: only %zu tets for %zu points", name, nt1, n);
+    for (size_t k = 1; k < NTHREADS; k++) {
+        size_t nt = 0;
+        uint32_t *c = run(name, p, n, NULL, THREADS[k], THREADS[k] == 4, &nt, &mt);
+        if (!c) continue;
+        TEST_CHECK(nt == nt1 && memcmp(c, ref, 4 * nt * sizeof *c) == 0,
+                   "%s: %d threads give other tets (%zu vs %zu)", name, THREADS[k], nt, nt1);
+        TEST_CHECK(mt >= 2, "%s: %d threads requested, but no round ran on more than one",
+                   name, THREADS[k]);
+        free(c);
+    }
+    /* shuffled input, 4 threads */
+    double *q = malloc(3 * n * sizeof *q);
+    uint32_t *orig = malloc(n * sizeof *orig);
+    if (q && orig) {
+        for (size_t i = 0; i < n; i++) orig[i] = (uint32_t)i;
+        tu_rng r = {99};
+        for (size_t i = n; i > 1; i--) {
+            size_t j = tu_below(&r, i);
+            uint32_t t = orig[i - 1];
+            orig[i - 1] = orig[j];
+            orig[j] = t;
+        }
+        for (size_t i = 0; i < n; i++) memcpy(q + 3 * i, p + 3 * (size_t)orig[i], 3 * sizeof *q);
+        size_t nt = 0;
+        uint32_t *c = run(name, q, n, orig, 4, 0, &nt, &mt);
+        if (c) {
+            TEST_CHECK(nt == nt1 && memcmp(c, ref, 4 * nt * sizeof *c) == 0,
+                       "%s: shuffled input gives other tets (%zu vs %zu)", name, nt, nt1);
+            TEST_CHECK(mt >= 2, "%s shuffled: no round ran on more than one thread", name);
+        }
+        free(c);
+    }
+    free(q);
+    free(orig);
+    free(ref);
+}
+
+/* ---- tests -------------------------------------------------------------------------------- */
+
+static void test_random_points_give_the_same_tets_for_1_2_3_4_8_threads_and_shuffled(void)
+{
+    double *p = uniform(N_RANDOM, 2024);
+    TEST_REQUIRE(p != NULL, "out of memory");
+    same_tets_for_every_thread_count_and_order("uniform", p, N_RANDOM);
+    free(p);
+}
+
+static void test_integer_grid_every_insphere_degenerate_gives_the_same_tets_in_parallel(void)
+{
+    size_t n;
+    double *p = grid(GRID_K, &n);
+    TEST_REQUIRE(p != NULL, "out of memory");
+    same_tets_for_every_thread_count_and_order("grid", p, n);
+    free(p);
+}
+
+static void test_cospherical_integer_points_give_the_same_tets_in_parallel(void)
+{
+    size_t n = 0;
+    double *p = cospherical(SPHERE_M, &n);
+    TEST_REQUIRE(p != NULL, "out of memory");
+    TEST_REQUIRE(n >= 8192, "only %zu co-spherical points: too few for parallel rounds", n);
+    same_tets_for_every_thread_count_and_order("cospherical", p, n);
+    free(p);
+}
+
+int main(void)
+{
+    TU_RUN(test_random_points_give_the_same_tets_for_1_2_3_4_8_threads_and_shuffled);
+    TU_RUN(test_integer_grid_every_insphere_degenerate_gives_the_same_tets_in_parallel);
+    TU_RUN(test_cospherical_integer_points_give_the_same_tets_in_parallel);
+    return tu_finish();
+}
