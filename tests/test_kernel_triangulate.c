@@ -10,6 +10,13 @@
 #include "gigatet.h"
 #include "testutil.h"
 
+/* Sanitized builds (GTET_TEST_SMALL) divide the big sets by 8: same families, same checks. */
+#ifdef GTET_TEST_SMALL
+#define BIG(n) ((n) / 8)
+#else
+#define BIG(n) (n)
+#endif
+
 /* ---- point sets -------------------------------------------------------------------------- */
 
 static double *uniform(size_t n, uint64_t seed)
@@ -152,7 +159,7 @@ static void check_set(const char *name, double *p, size_t n, int threads)
 /* Exercises proofs/perturbation.md P4, proofs/termination.md T1. */
 static void test_random_sets_of_many_sizes_pass_the_exact_checker(void)
 {
-    const size_t sizes[] = {4, 5, 6, 7, 10, 20, 50, 100, 300, 1000, 5000, 30000};
+    const size_t sizes[] = {4, 5, 6, 7, 10, 20, 50, 100, 300, 1000, 5000, BIG(30000)};
     for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++) {
         double *p = uniform(sizes[i], 1000 + i);
         check_set("uniform", p, sizes[i], 1);
@@ -382,9 +389,9 @@ static void test_walks_never_fall_back_to_the_scan(void)
     size_t n;
     double *sets[3];
     size_t sizes[3];
-    sets[0] = uniform(20000, 31);
-    sizes[0] = 20000;
-    sets[1] = grid(20, &n);
+    sets[0] = uniform(BIG(20000), 31);
+    sizes[0] = BIG(20000);
+    sets[1] = grid(BIG(20 * 8) / 8 > 10 ? 20 : 10, &n);
     sizes[1] = n;
     sets[2] = cospherical(325, &n);
     sizes[2] = n;
@@ -409,13 +416,14 @@ static void test_walks_never_fall_back_to_the_scan(void)
 /* proofs/termination.md T3, T4: every distinct point inserted once; one thread defers nothing. */
 static void test_rounds_insert_every_point_once_and_one_thread_defers_nothing(void)
 {
-    double *p = uniform(60000, 41);
+    const size_t np = BIG(60000);
+    double *p = uniform(np, 41);
     for (int th = 1; th <= 2; th++) {
         gtet_options o;
         gtet_options_init(&o);
         o.threads = th;
         gtet_mesh *m = NULL;
-        TEST_REQUIRE(gtet_triangulate(p, 60000, &o, &m) == GTET_OK, "triangulate fails");
+        TEST_REQUIRE(gtet_triangulate(p, np, &o, &m) == GTET_OK, "triangulate fails");
         gtet_stats st;
         gtet_mesh_stats(m, &st);
         uint64_t sum = 0;
@@ -443,9 +451,9 @@ static void test_parallel_rounds_end_within_the_pass_bound(void)
     size_t n;
     double *sets[2];
     size_t sizes[2];
-    sets[0] = uniform(100000, 51);
-    sizes[0] = 100000;
-    sets[1] = grid(40, &n);
+    sets[0] = uniform(BIG(100000), 51);
+    sizes[0] = BIG(100000);
+    sets[1] = grid(BIG(40 * 8) / 8 > 20 ? 40 : 20, &n);
     sizes[1] = n;
     for (int k = 0; k < 2; k++) {
         gtet_options o;
