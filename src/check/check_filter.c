@@ -18,6 +18,29 @@
  *
  * This is independent of src/pred/ (whose filters are semi-static error bounds); it only makes
  * the checker fast enough for millions of tets (GTET_CHECK_NO_FILTER turns it off).
+ *
+ * A cheaper first stage (fast_orient3d, fast_insphere) runs before the intervals: the same
+ * determinant in plain doubles, d, and its "permanent" p, the same expression tree evaluated on
+ * the absolute values of the leaves with every - turned into +.  Why |d - det| <= 2^-49 p:
+ *   - Range guard.  The leaves are the computed differences x = fl(q_j - e_j).  The stage runs
+ *     only when every leaf is 0 or 2^-120 <= |x| <= 2^120 (NaN and inf fail the test).  Then
+ *     every operation obeys fl(s op t) = (s op t)(1 + delta), |delta| <= u = 2^-53: nothing
+ *     overflows (every value is below 2^700), a sum or difference whose result is subnormal is
+ *     exact, and no exact nonzero product is subnormal.  For the products, use that a double
+ *     of magnitude >= 2^m is a multiple of 2^(m-52), so a nonzero sum of two doubles of
+ *     magnitude >= 2^m is >= 2^(m-52): the 2x2 products are 0 or >= 2^-240, the 2x2 minors
+ *     >= 2^-292, their products with a leaf >= 2^-412, the 3x3 minors (two more additions)
+ *     >= 2^-516, the lifts (sums of squares, no cancellation) >= 2^-240, lift * minor >= 2^-756.
+ *   - Error.  Expanding the tree, the computed d is the sum of its signed monomials, each
+ *     multiplied by at most k factors (1 + delta) (k = the tree's depth, leaf subtraction
+ *     included: k <= 10 here), while det is the same sum with the factors 1.  So
+ *     |d - det| <= ((1+u)^k - 1) P, where P is the sum of the monomials' absolute values, i.e.
+ *     the permanent of the exact leaves.  The computed p is P times at most k factors (1 + delta)
+ *     (leaves included, no cancellation), so P <= p / (1-u)^k, and
+ *     |d - det| <= ((1+u)^10 - 1) / (1-u)^10 p < 11u p < 2^-49 p.
+ *   - Decision.  The stage returns sign(d) only when |d| > 2^-45 p (the product by 2^-45 is
+ *     exact in this range); then |det| >= |d| - 2^-49 p > 0 and det has the sign of d.
+ *     Otherwise (exact zeros of grids, near-degenerate tuples) the interval stage decides.
  */
 #include <math.h>
 #include <stdint.h>
@@ -141,17 +164,96 @@ static int filter_insphere(const double *a, const double *b, const double *c, co
     return -iv_sign(det);
 }
 
+/* The range guard of the double stage: x is 0 or 2^-120 <= |x| <= 2^120 (false for NaN, inf). */
+static int in_range(double x)
+{
+    double a = fabs(x);
+    return x == 0.0 || (a >= 0x1p-120 && a <= 0x1p120);
+}
+
+/* det3 of rows u, v, w and its permanent (same tree, absolute values, all additions). */
+static double fdet3(const double u[3], const double v[3], const double w[3], double *perm,
+                    const double au[3], const double av[3], const double aw[3])
+{
+    double m0 = v[1] * w[2] - v[2] * w[1];
+    double m1 = v[0] * w[2] - v[2] * w[0];
+    double m2 = v[0] * w[1] - v[1] * w[0];
+    double p0 = av[1] * aw[2] + av[2] * aw[1];
+    double p1 = av[0] * aw[2] + av[2] * aw[0];
+    double p2 = av[0] * aw[1] + av[1] * aw[0];
+    *perm = au[0] * p0 + au[1] * p1 + au[2] * p2;
+    return u[0] * m0 - u[1] * m1 + u[2] * m2;
+}
+
+/* sign(d) when |d| > 2^-45 p proves it (see the top), else 0. */
+static int fast_sign(double d, double p)
+{
+    double b = p * 0x1p-45;
+    return d > b ? 1 : (d < -b ? -1 : 0);
+}
+
+/* Depth: leaf 1, product 2, difference 3, product 4, two additions 6. */
+static int fast_orient3d(const double *a, const double *b, const double *c, const double *d)
+{
+    double u[3], v[3], w[3], au[3], av[3], aw[3];
+    int ok = 1;
+    for (int j = 0; j < 3; j++) {
+        u[j] = b[j] - a[j];
+        v[j] = c[j] - a[j];
+        w[j] = d[j] - a[j];
+        ok &= in_range(u[j]) & in_range(v[j]) & in_range(w[j]);
+        au[j] = fabs(u[j]);
+        av[j] = fabs(v[j]);
+        aw[j] = fabs(w[j]);
+    }
+    if (!ok) return 0;
+    double p, det = fdet3(u, v, w, &p, au, av, aw);
+    return fast_sign(det, p);
+}
+
+/* -sign det[x - e, |x - e|^2], as filter_insphere.  Depth: the lifts 4 (leaf, square, two
+ * additions), the 3x3 minors 6, their products with the lifts 7, three additions 10. */
+static int fast_insphere(const double *a, const double *b, const double *c, const double *d,
+                         const double *e)
+{
+    const double *p[4] = {a, b, c, d};
+    double r[4][3], ar[4][3], lift[4];
+    int ok = 1;
+    for (int i = 0; i < 4; i++) {
+        for (int j = 0; j < 3; j++) {
+            r[i][j] = p[i][j] - e[j];
+            ok &= in_range(r[i][j]);
+            ar[i][j] = fabs(r[i][j]);
+        }
+        lift[i] = r[i][0] * r[i][0] + r[i][1] * r[i][1] + r[i][2] * r[i][2];
+    }
+    if (!ok) return 0;
+    double pm[4], m[4];
+    m[0] = fdet3(r[1], r[2], r[3], &pm[0], ar[1], ar[2], ar[3]);
+    m[1] = fdet3(r[0], r[2], r[3], &pm[1], ar[0], ar[2], ar[3]);
+    m[2] = fdet3(r[0], r[1], r[3], &pm[2], ar[0], ar[1], ar[3]);
+    m[3] = fdet3(r[0], r[1], r[2], &pm[3], ar[0], ar[1], ar[2]);
+    /* sum over rows i of (-1)^(i+3) lift_i minor_i, as filter_insphere */
+    double det = -lift[0] * m[0] + lift[1] * m[1] - lift[2] * m[2] + lift[3] * m[3];
+    double perm = lift[0] * pm[0] + lift[1] * pm[1] + lift[2] * pm[2] + lift[3] * pm[3];
+    return -fast_sign(det, perm);
+}
+
 int chk_orient3d(const chk_ctx *c, const double *a, const double *b, const double *cc,
                  const double *d)
 {
-    int s = (c->flags & GTET_CHECK_NO_FILTER) ? 0 : filter_orient3d(a, b, cc, d);
+    if (c->flags & GTET_CHECK_NO_FILTER) return orc_orient3d(a, b, cc, d);
+    int s = fast_orient3d(a, b, cc, d);
+    if (!s) s = filter_orient3d(a, b, cc, d);
     return s ? s : orc_orient3d(a, b, cc, d);
 }
 
 int chk_insphere_sos(const chk_ctx *c, const double *a, const double *b, const double *cc,
                      const double *d, const double *e)
 {
-    int s = (c->flags & GTET_CHECK_NO_FILTER) ? 0 : filter_insphere(a, b, cc, d, e);
+    if (c->flags & GTET_CHECK_NO_FILTER) return orc_insphere_sos(a, b, cc, d, e);
+    int s = fast_insphere(a, b, cc, d, e);
+    if (!s) s = filter_insphere(a, b, cc, d, e);
     return s ? s : orc_insphere_sos(a, b, cc, d, e);
 }
 
@@ -159,6 +261,8 @@ int chk_ghost_conflict(const chk_ctx *c, const double *a, const double *b, const
                        const double *e)
 {
     /* a nonzero orient3d(a,b,c,e) is the hull rule's answer */
-    int s = (c->flags & GTET_CHECK_NO_FILTER) ? 0 : filter_orient3d(a, b, cc, e);
+    if (c->flags & GTET_CHECK_NO_FILTER) return orc_ghost_conflict(a, b, cc, e);
+    int s = fast_orient3d(a, b, cc, e);
+    if (!s) s = filter_orient3d(a, b, cc, e);
     return s ? s : orc_ghost_conflict(a, b, cc, e);
 }

@@ -73,6 +73,93 @@ static gtet_status check_neighbors(chk_ctx *c)
     return GTET_OK;
 }
 
+/* Sort small arrays by insertion (the per-vertex buckets hold a few dozen keys), larger ones
+ * with qsort.  Keys are distinct (tf is unique), so the order is the same either way. */
+static void fkey_sort(fkey *k, size_t n)
+{
+    if (n > 48) {
+        qsort(k, n, sizeof *k, fkey_cmp);
+        return;
+    }
+    for (size_t i = 1; i < n; i++) {
+        fkey x = k[i];
+        size_t j = i;
+        while (j > 0 && fkey_cmp(&k[j - 1], &x) > 0) {
+            k[j] = k[j - 1];
+            j--;
+        }
+        k[j] = x;
+    }
+}
+
+/* The smallest vertex of facet f of tet t (the tet's vertices other than its f-th). */
+static uint32_t facet_min(const uint32_t *tet, int f)
+{
+    uint32_t m = UINT32_MAX;
+    for (int i = 0; i < 4; i++)
+        if (i != f && tet[i] < m) m = tet[i];
+    return m;
+}
+
+/* Match the facets filed under vertex v: fill adj for them and count the interior ones.  On a
+ * violation return 1, and with report set write it into the report; else 0. */
+static int match_bucket(chk_ctx *c, size_t v, const size_t *start, const uint32_t *bucket,
+                        fkey *keys, int report, size_t *interior)
+{
+    const uint32_t *T = c->tets;
+    size_t nb = start[v + 1] - start[v];
+    for (size_t k = 0; k < nb; k++) {
+        uint32_t tf = bucket[start[v] + k], o[3], s[3];
+        chk_outward_facet(T + 4 * (tf / 4), (int)(tf % 4), o);
+        sort3(o, s);
+        keys[k].bc = (uint64_t)s[1] << 32 | s[2];
+        keys[k].apex = T[tf];
+        keys[k].tf = tf;
+    }
+    fkey_sort(keys, nb);
+    for (size_t g = 0; g < nb;) {
+        size_t e = g + 1;
+        while (e < nb && keys[e].bc == keys[g].bc) e++;
+        uint32_t b = (uint32_t)(keys[g].bc >> 32), cc = (uint32_t)keys[g].bc;
+        for (size_t k = g + 1; k < e; k++)
+            if (keys[k].apex == keys[k - 1].apex) {
+                if (report)
+                    chk_fail(c, "tets %u and %u have the same four vertices (%zu %u %u %u)",
+                             keys[k - 1].tf / 4, keys[k].tf / 4, v, b, cc, keys[k].apex);
+                return 1;
+            }
+        if (e - g > 2) {
+            if (report)
+                chk_fail(c, "facet (%zu %u %u) is in %zu tets (%u, %u, %u%s)", v, b, cc, e - g,
+                         keys[g].tf / 4, keys[g + 1].tf / 4, keys[g + 2].tf / 4,
+                         e - g > 3 ? ", ..." : "");
+            return 1;
+        }
+        if (e - g == 1) {
+            c->adj[keys[g].tf] = GTET_NO_TET;
+        } else {
+            uint32_t t1 = keys[g].tf, t2 = keys[g + 1].tf, o1[3], o2[3];
+            chk_outward_facet(T + 4 * (t1 / 4), (int)(t1 % 4), o1);
+            chk_outward_facet(T + 4 * (t2 / 4), (int)(t2 % 4), o2);
+            if (facet_parity(o1) == facet_parity(o2)) {
+                if (report)
+                    chk_fail(c, "tets %u and %u lie on the same side of their common facet "
+                             "(%zu %u %u): they overlap", t1 / 4, t2 / 4, v, b, cc);
+                return 1;
+            }
+            c->adj[t1] = t2 / 4;
+            c->adj[t2] = t1 / 4;
+            (*interior)++;
+        }
+        g = e;
+    }
+    return 0;
+}
+
+/* The buckets are matched in parallel: each facet is in one bucket, so the threads write
+ * disjoint entries of adj; each thread keeps its smallest failing vertex, and the failure
+ * reported is the one of the smallest vertex over all, found again serially for its message:
+ * the same for any thread count. */
 gtet_status chk_facets(chk_ctx *c)
 {
     const uint32_t *T = c->tets;
@@ -87,76 +174,42 @@ gtet_status chk_facets(chk_ctx *c)
         goto done;
     }
     /* counting sort of the facets by their smallest vertex */
-    for (size_t tf = 0; tf < nf; tf++) {
-        uint32_t o[3], s[3];
-        chk_outward_facet(T + 4 * (tf / 4), (int)(tf % 4), o);
-        sort3(o, s);
-        start[s[0] + 1]++;
-    }
+    for (size_t tf = 0; tf < nf; tf++) start[facet_min(T + 4 * (tf / 4), (int)(tf % 4)) + 1]++;
     size_t maxb = 0;
     for (size_t v = 0; v < c->nv; v++) {
         if (start[v + 1] > maxb) maxb = start[v + 1];
         start[v + 1] += start[v];
     }
-    for (size_t tf = 0; tf < nf; tf++) {
-        uint32_t o[3], s[3];
-        chk_outward_facet(T + 4 * (tf / 4), (int)(tf % 4), o);
-        sort3(o, s);
-        bucket[start[s[0]]++] = (uint32_t)tf;
-    }
+    for (size_t tf = 0; tf < nf; tf++)
+        bucket[start[facet_min(T + 4 * (tf / 4), (int)(tf % 4))]++] = (uint32_t)tf;
     for (size_t v = c->nv; v > 0; v--) start[v] = start[v - 1];  /* undo the fill's shift */
     start[0] = 0;
-    keys = malloc((maxb ? maxb : 1) * sizeof *keys);
-    if (!keys) {
+    size_t bad = SIZE_MAX, interior = 0;
+    int oom = 0;
+#pragma omp parallel reduction(min : bad) reduction(+ : interior) reduction(| : oom) \
+    if (c->nt > 8192)
+    {
+        fkey *k = malloc((maxb ? maxb : 1) * sizeof *k);
+        if (!k) oom = 1;
+#pragma omp for schedule(dynamic, 1024)
+        for (size_t v = 0; v < c->nv; v++)
+            if (k && v < bad && match_bucket(c, v, start, bucket, k, 0, &interior)) bad = v;
+        free(k);
+    }
+    if (oom) {
         st = chk_oom(c);
         goto done;
     }
-    c->interior_facets = 0;
-    for (size_t v = 0; v < c->nv; v++) {
-        size_t nb = start[v + 1] - start[v];
-        for (size_t k = 0; k < nb; k++) {
-            uint32_t tf = bucket[start[v] + k], o[3], s[3];
-            chk_outward_facet(T + 4 * (tf / 4), (int)(tf % 4), o);
-            sort3(o, s);
-            keys[k].bc = (uint64_t)s[1] << 32 | s[2];
-            keys[k].apex = T[tf];
-            keys[k].tf = tf;
+    if (bad != SIZE_MAX) {
+        keys = malloc((maxb ? maxb : 1) * sizeof *keys);
+        if (!keys) st = chk_oom(c);
+        else {
+            match_bucket(c, bad, start, bucket, keys, 1, &interior);
+            st = GTET_ERR_CHECK_FAILED;
         }
-        qsort(keys, nb, sizeof *keys, fkey_cmp);
-        for (size_t g = 0; g < nb;) {
-            size_t e = g + 1;
-            while (e < nb && keys[e].bc == keys[g].bc) e++;
-            uint32_t b = (uint32_t)(keys[g].bc >> 32), cc = (uint32_t)keys[g].bc;
-            for (size_t k = g + 1; k < e; k++)
-                if (keys[k].apex == keys[k - 1].apex) {
-                    st = chk_fail(c, "tets %u and %u have the same four vertices (%zu %u %u %u)",
-                                  keys[k - 1].tf / 4, keys[k].tf / 4, v, b, cc, keys[k].apex);
-                    goto done;
-                }
-            if (e - g > 2) {
-                st = chk_fail(c, "facet (%zu %u %u) is in %zu tets (%u, %u, %u%s)", v, b, cc,
-                              e - g, keys[g].tf / 4, keys[g + 1].tf / 4, keys[g + 2].tf / 4,
-                              e - g > 3 ? ", ..." : "");
-                goto done;
-            }
-            if (e - g == 1) {
-                c->adj[keys[g].tf] = GTET_NO_TET;
-            } else {
-                uint32_t t1 = keys[g].tf, t2 = keys[g + 1].tf, o1[3], o2[3];
-                chk_outward_facet(T + 4 * (t1 / 4), (int)(t1 % 4), o1);
-                chk_outward_facet(T + 4 * (t2 / 4), (int)(t2 % 4), o2);
-                if (facet_parity(o1) == facet_parity(o2)) {
-                    st = chk_fail(c, "tets %u and %u lie on the same side of their common facet "
-                                  "(%zu %u %u): they overlap", t1 / 4, t2 / 4, v, b, cc);
-                    goto done;
-                }
-                c->adj[t1] = t2 / 4;
-                c->adj[t2] = t1 / 4;
-                c->interior_facets++;
-            }
-            g = e;
-        }
+        goto done;
     }
+    c->interior_facets = interior;
     if (c->neighbors && (st = check_neighbors(c)) != GTET_OK) goto done;
     /* the hull facets, in order of their tet facet */
     c->nh = 0;
@@ -249,6 +302,24 @@ static int cmp_u32(const void *pa, const void *pb)
     return (a > b) - (a < b);
 }
 
+/* Insertion sort for the small per-vertex edge buckets, qsort for large ones. */
+static void u32_sort(uint32_t *a, size_t n)
+{
+    if (n > 64) {
+        qsort(a, n, sizeof *a, cmp_u32);
+        return;
+    }
+    for (size_t i = 1; i < n; i++) {
+        uint32_t x = a[i];
+        size_t j = i;
+        while (j > 0 && a[j - 1] > x) {
+            a[j] = a[j - 1];
+            j--;
+        }
+        a[j] = x;
+    }
+}
+
 static uint32_t uf_find(uint32_t *parent, uint32_t x)
 {
     while (parent[x] != x) {
@@ -289,15 +360,22 @@ gtet_status chk_euler_links(chk_ctx *c)
         }
     for (size_t v = nv; v > 0; v--) start[v] = start[v - 1];
     start[0] = 0;
+    /* buckets in parallel; the counts are sums of increments (atomic for the other end), so
+     * they do not depend on the thread count */
     int64_t E = 0, F = 0;
+#pragma omp parallel for reduction(+ : E) schedule(dynamic, 1024) if (nt > 8192)
     for (size_t v = 0; v < nv; v++) {
-        qsort(other + start[v], start[v + 1] - start[v], sizeof *other, cmp_u32);
+        u32_sort(other + start[v], start[v + 1] - start[v]);
+        int64_t mine = 0;
         for (size_t k = start[v]; k < start[v + 1]; k++)
             if (k == start[v] || other[k] != other[k - 1]) {
-                E++;
-                n_edges[v]++;
+                mine++;
+#pragma omp atomic
                 n_edges[other[k]]++;
             }
+        E += mine;
+#pragma omp atomic
+        n_edges[v] += mine;
     }
     /* facets (each once) and tets at each vertex; link union-find over the tet corners */
     for (size_t x = 0; x < 4 * nt; x++) parent[x] = (uint32_t)x;

@@ -34,6 +34,7 @@
 #include <gmp.h>
 #include <limits.h>
 #include <math.h>
+#include <omp.h>
 #include <stdint.h>
 
 typedef struct zpt { mpz_t c[3]; } zpt;
@@ -473,10 +474,40 @@ static void scaled(mpz_t r, double x, int emin)
  * facets of det[a; b; c] (6 * the volume enclosed, by the divergence theorem, for outward
  * oriented facets), both exact at one global power-of-two scale: returns the sign of
  * (tets - hull), 0 when equal. */
+/* sum += det[b-a; c-a; d-a] over tets [lo, hi), coordinates scaled by 2^-emin. */
+static void volume_sum_tets(mpz_t sum, const double *vertices, const uint32_t *tets, size_t lo,
+                            size_t hi, int emin)
+{
+    mpz_t det, p[4][3], d[9];
+    mpz_init(det);
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 3; j++) mpz_init(p[i][j]);
+    for (int i = 0; i < 9; i++) mpz_init(d[i]);
+    mpz_srcptr m[9];
+    for (int i = 0; i < 9; i++) m[i] = d[i];
+    for (size_t t = lo; t < hi; t++) {
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 3; j++) scaled(p[i][j], vertices[3 * (size_t)tets[4 * t + i] + j], emin);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) mpz_sub(d[3 * i + j], p[i + 1][j], p[0][j]);
+        det3(det, m);
+        mpz_add(sum, sum, det);
+    }
+    mpz_clear(det);
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 3; j++) mpz_clear(p[i][j]);
+    for (int i = 0; i < 9; i++) mpz_clear(d[i]);
+}
+
+/* The tets' sum is split over OpenMP threads: each adds a contiguous range into its own mpz,
+ * and the partial sums are added under a critical section.  Integer addition is exact and
+ * associative, so the total (and the sign returned) does not depend on the thread count or
+ * the order of the additions. */
 int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
                        const uint32_t *hull, size_t nh)
 {
     int emin = INT_MAX;
+#pragma omp parallel for reduction(min : emin) schedule(static) if (nv > 65536)
     for (size_t i = 0; i < 3 * nv; i++) {
         double m;
         int e;
@@ -484,20 +515,21 @@ int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, 
         if (m != 0.0 && e < emin) emin = e;
     }
     if (emin == INT_MAX) emin = 0;
-    mpz_t sum, det, p[4][3], d[9];
+    mpz_t sum, det, d[9];
     mpz_inits(sum, det, NULL);
-    for (int i = 0; i < 4; i++)
-        for (int j = 0; j < 3; j++) mpz_init(p[i][j]);
     for (int i = 0; i < 9; i++) mpz_init(d[i]);
     mpz_srcptr m[9];
     for (int i = 0; i < 9; i++) m[i] = d[i];
-    for (size_t t = 0; t < nt; t++) {
-        for (int i = 0; i < 4; i++)
-            for (int j = 0; j < 3; j++) scaled(p[i][j], vertices[3 * (size_t)tets[4 * t + i] + j], emin);
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) mpz_sub(d[3 * i + j], p[i + 1][j], p[0][j]);
-        det3(det, m);
-        mpz_add(sum, sum, det);
+#pragma omp parallel if (nt > 16384)
+    {
+        mpz_t part;
+        mpz_init(part);
+        int nth = omp_get_num_threads(), me = omp_get_thread_num();
+        size_t lo = nt * (size_t)me / (size_t)nth, hi = nt * (size_t)(me + 1) / (size_t)nth;
+        volume_sum_tets(part, vertices, tets, lo, hi, emin);
+#pragma omp critical(gtet_orc_volume)
+        mpz_add(sum, sum, part);
+        mpz_clear(part);
     }
     for (size_t h = 0; h < nh; h++) {
         for (int i = 0; i < 3; i++)
@@ -507,8 +539,6 @@ int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, 
     }
     int s = mpz_sgn(sum);
     mpz_clears(sum, det, NULL);
-    for (int i = 0; i < 4; i++)
-        for (int j = 0; j < 3; j++) mpz_clear(p[i][j]);
     for (int i = 0; i < 9; i++) mpz_clear(d[i]);
     return s;
 }
