@@ -51,10 +51,12 @@ void orc_split_double(double x, double *m, int *e)
     double f = frexp(x, &ex);                 /* x = f * 2^ex, 0.5 <= |f| < 1, exact */
     int64_t mi = (int64_t)ldexp(f, 53);       /* exact: a double has at most 53 significant bits */
     ex -= 53;
-    while (mi % 2 == 0) {                     /* strip trailing zero bits: small integers stay small */
-        mi /= 2;
-        ex++;
-    }
+    /* strip trailing zero bits: small integers stay small (mi != 0, |mi| < 2^53) */
+    uint64_t mag = mi < 0 ? (uint64_t)(-mi) : (uint64_t)mi;
+    int tz = __builtin_ctzll(mag);
+    mag >>= tz;
+    mi = mi < 0 ? -(int64_t)mag : (int64_t)mag;
+    ex += tz;
     *m = (double)mi;                          /* |mi| < 2^53: exact */
     *e = ex;
 }
