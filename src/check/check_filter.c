@@ -40,7 +40,9 @@
  *     |d - det| <= ((1+u)^10 - 1) / (1-u)^10 p < 11u p < 2^-49 p.
  *   - Decision.  The stage returns sign(d) only when |d| > 2^-45 p (the product by 2^-45 is
  *     exact in this range); then |det| >= |d| - 2^-49 p > 0 and det has the sign of d.
- *     Otherwise (exact zeros of grids, near-degenerate tuples) the interval stage decides.
+ *     Otherwise (exact zeros of grids, near-degenerate tuples) the oracle decides: the
+ *     intervals would rarely do better there, and on grids they cost more than the oracle.
+ *     The interval stage runs only when the range guard fails (fast_* return 2).
  */
 #include <math.h>
 #include <stdint.h>
@@ -185,7 +187,8 @@ static double fdet3(const double u[3], const double v[3], const double w[3], dou
     return u[0] * m0 - u[1] * m1 + u[2] * m2;
 }
 
-/* sign(d) when |d| > 2^-45 p proves it (see the top), else 0. */
+/* sign(d) when |d| > 2^-45 p proves it (see the top), else 0 (the fast_* functions return 2
+ * when the range guard fails). */
 static int fast_sign(double d, double p)
 {
     double b = p * 0x1p-45;
@@ -206,7 +209,7 @@ static int fast_orient3d(const double *a, const double *b, const double *c, cons
         av[j] = fabs(v[j]);
         aw[j] = fabs(w[j]);
     }
-    if (!ok) return 0;
+    if (!ok) return 2;
     double p, det = fdet3(u, v, w, &p, au, av, aw);
     return fast_sign(det, p);
 }
@@ -227,7 +230,7 @@ static int fast_insphere(const double *a, const double *b, const double *c, cons
         }
         lift[i] = r[i][0] * r[i][0] + r[i][1] * r[i][1] + r[i][2] * r[i][2];
     }
-    if (!ok) return 0;
+    if (!ok) return 2;
     double pm[4], m[4];
     m[0] = fdet3(r[1], r[2], r[3], &pm[0], ar[1], ar[2], ar[3]);
     m[1] = fdet3(r[0], r[2], r[3], &pm[1], ar[0], ar[2], ar[3]);
@@ -244,7 +247,7 @@ int chk_orient3d(const chk_ctx *c, const double *a, const double *b, const doubl
 {
     if (c->flags & GTET_CHECK_NO_FILTER) return orc_orient3d(a, b, cc, d);
     int s = fast_orient3d(a, b, cc, d);
-    if (!s) s = filter_orient3d(a, b, cc, d);
+    if (s == 2) s = filter_orient3d(a, b, cc, d);
     return s ? s : orc_orient3d(a, b, cc, d);
 }
 
@@ -253,7 +256,7 @@ int chk_insphere_sos(const chk_ctx *c, const double *a, const double *b, const d
 {
     if (c->flags & GTET_CHECK_NO_FILTER) return orc_insphere_sos(a, b, cc, d, e);
     int s = fast_insphere(a, b, cc, d, e);
-    if (!s) s = filter_insphere(a, b, cc, d, e);
+    if (s == 2) s = filter_insphere(a, b, cc, d, e);
     return s ? s : orc_insphere_sos(a, b, cc, d, e);
 }
 
@@ -263,6 +266,6 @@ int chk_ghost_conflict(const chk_ctx *c, const double *a, const double *b, const
     /* a nonzero orient3d(a,b,c,e) is the hull rule's answer */
     if (c->flags & GTET_CHECK_NO_FILTER) return orc_ghost_conflict(a, b, cc, e);
     int s = fast_orient3d(a, b, cc, e);
-    if (!s) s = filter_orient3d(a, b, cc, e);
+    if (s == 2) s = filter_orient3d(a, b, cc, e);
     return s ? s : orc_ghost_conflict(a, b, cc, e);
 }

@@ -51,10 +51,12 @@ void orc_split_double(double x, double *m, int *e)
     double f = frexp(x, &ex);                 /* x = f * 2^ex, 0.5 <= |f| < 1, exact */
     int64_t mi = (int64_t)ldexp(f, 53);       /* exact: a double has at most 53 significant bits */
     ex -= 53;
-    while (mi % 2 == 0) {                     /* strip trailing zero bits: small integers stay small */
-        mi /= 2;
-        ex++;
-    }
+    /* strip trailing zero bits: small integers stay small (mi != 0, |mi| < 2^53) */
+    uint64_t mag = mi < 0 ? (uint64_t)(-mi) : (uint64_t)mi;
+    int tz = __builtin_ctzll(mag);
+    mag >>= tz;
+    mi = mi < 0 ? -(int64_t)mag : (int64_t)mag;
+    ex += tz;
     *m = (double)mi;                          /* |mi| < 2^53: exact */
     *e = ex;
 }
@@ -474,7 +476,50 @@ static void scaled(mpz_t r, double x, int emin)
  * facets of det[a; b; c] (6 * the volume enclosed, by the divergence theorem, for outward
  * oriented facets), both exact at one global power-of-two scale: returns the sign of
  * (tets - hull), 0 when equal. */
-/* sum += det[b-a; c-a; d-a] over tets [lo, hi), coordinates scaled by 2^-emin. */
+__extension__ typedef __int128 vi128;
+__extension__ typedef unsigned __int128 vu128;
+
+/* A 256-bit unsigned accumulator (little-endian 64-bit limbs): a += x * 2^(64k), k <= 1. */
+static void acc_add(uint64_t a[4], vu128 x, int k)
+{
+    vu128 s = (vu128)a[k] + (uint64_t)x;
+    a[k] = (uint64_t)s;
+    s = (vu128)a[k + 1] + (uint64_t)(x >> 64) + (uint64_t)(s >> 64);
+    a[k + 1] = (uint64_t)s;
+    uint64_t carry = (uint64_t)(s >> 64);
+    for (int i = k + 2; i < 4 && carry; i++) {
+        a[i] += carry;
+        carry = a[i] == 0;
+    }
+}
+
+/* pos or neg += u * m (|u| < 2^62, |m| < 2^125): a product below 2^187, added as two parts. */
+static void acc_term(uint64_t pos[4], uint64_t neg[4], int64_t u, vi128 m)
+{
+    if (u == 0 || m == 0) return;
+    uint64_t *a = (u < 0) != (m < 0) ? neg : pos;
+    uint64_t au = u < 0 ? (uint64_t)(-u) : (uint64_t)u;
+    vu128 am = m < 0 ? (vu128)(-m) : (vu128)m;
+    acc_add(a, (vu128)au * (uint64_t)am, 0);
+    acc_add(a, (vu128)au * (uint64_t)(am >> 64), 1);
+}
+
+/* x * 2^-emin as an int64 in *r when it is below 2^61 in magnitude (it is an integer: emin is
+ * at most the exponent of x's last bit); 0 when it is larger. */
+static int scaled_small(double x, int emin, int64_t *r)
+{
+    double s = ldexp(x, -emin);  /* exact: a power-of-two scaling to an integer, or inf */
+    if (!(fabs(s) < 0x1p61)) return 0;
+    *r = (int64_t)s;
+    return 1;
+}
+
+/* sum += det[b-a; c-a; d-a] over tets [lo, hi), coordinates scaled by 2^-emin.  A tet whose
+ * scaled coordinates are below 2^61 is summed in fixed-width integers: differences below 2^62
+ * (int64), 2x2 minors below 2^125 (vi128), each of the three terms of the determinant below
+ * 2^187, accumulated by sign in two 256-bit accumulators (fewer than 3 * 2^30 terms: below
+ * 2^219, no overflow), added to sum at the end.  The other tets go through mpz.  Both are
+ * exact, so the sum is the same either way. */
 static void volume_sum_tets(mpz_t sum, const double *vertices, const uint32_t *tets, size_t lo,
                             size_t hi, int emin)
 {
@@ -485,7 +530,28 @@ static void volume_sum_tets(mpz_t sum, const double *vertices, const uint32_t *t
     for (int i = 0; i < 9; i++) mpz_init(d[i]);
     mpz_srcptr m[9];
     for (int i = 0; i < 9; i++) m[i] = d[i];
+    uint64_t pos[4] = {0, 0, 0, 0}, neg[4] = {0, 0, 0, 0};
     for (size_t t = lo; t < hi; t++) {
+        int64_t q[4][3];
+        int small = 1;
+        for (int i = 0; i < 4 && small; i++)
+            for (int j = 0; j < 3 && small; j++)
+                small = scaled_small(vertices[3 * (size_t)tets[4 * t + i] + j], emin, &q[i][j]);
+        if (small) {
+            int64_t u[3], v[3], w[3];
+            for (int j = 0; j < 3; j++) {
+                u[j] = q[1][j] - q[0][j];
+                v[j] = q[2][j] - q[0][j];
+                w[j] = q[3][j] - q[0][j];
+            }
+            vi128 m0 = (vi128)v[1] * w[2] - (vi128)v[2] * w[1];
+            vi128 m1 = (vi128)v[0] * w[2] - (vi128)v[2] * w[0];
+            vi128 m2 = (vi128)v[0] * w[1] - (vi128)v[1] * w[0];
+            acc_term(pos, neg, u[0], m0);
+            acc_term(pos, neg, -u[1], m1);
+            acc_term(pos, neg, u[2], m2);
+            continue;
+        }
         for (int i = 0; i < 4; i++)
             for (int j = 0; j < 3; j++) scaled(p[i][j], vertices[3 * (size_t)tets[4 * t + i] + j], emin);
         for (int i = 0; i < 3; i++)
@@ -493,6 +559,10 @@ static void volume_sum_tets(mpz_t sum, const double *vertices, const uint32_t *t
         det3(det, m);
         mpz_add(sum, sum, det);
     }
+    mpz_import(det, 4, -1, sizeof pos[0], 0, 0, pos);
+    mpz_add(sum, sum, det);
+    mpz_import(det, 4, -1, sizeof neg[0], 0, 0, neg);
+    mpz_sub(sum, sum, det);
     mpz_clear(det);
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 3; j++) mpz_clear(p[i][j]);
