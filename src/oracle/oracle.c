@@ -26,7 +26,8 @@
  * side_of_sphere with an infinite vertex) and kernel_ftC3.h (coplanar_orientationC3,
  * coplanar_side_of_bounded_circleC3); see the comment above each function.  Points are ranked
  * by lexicographic (x, y, z) order of their values (-0.0 == +0.0).  Nothing here is shared with
- * src/pred/.  Simple, slow on purpose; no global state, reentrant.
+ * src/pred/.  Simple code first; the few fast paths (small integers, fixed-width sums) argue
+ * their exactness where they stand.  No global state, reentrant.
  */
 #include "oracle.h"
 #include "oracle_small.h"
