@@ -10,6 +10,7 @@
 #include "pred/pred.h"
 #include "testutil.h"
 
+/* Exercises proofs/filters.md §5 (the IEEE assumptions the certified constants rely on). */
 static void test_fp_model_round_to_nearest_no_fma_no_extended_no_ftz(void)
 {
     int bad = pred_fp_selftest();

@@ -383,6 +383,30 @@ static void test_check_option_runs_the_checker(void)
     free(p);
 }
 
+/* Exercises proofs/perturbation.md P6: two big coplanar, cocircular hull faces (integer grids on
+ * z = 0 and z = 3) and a few interior points, inserted in several orders, give one mesh. */
+static void test_points_inserted_on_a_coplanar_hull_face_give_the_same_mesh_in_any_order(void)
+{
+    size_t n = 0;
+    double *p = malloc(3 * 200 * sizeof *p);
+    for (int z = 0; z <= 3; z += 3)
+        for (int x = 0; x < 8; x++)
+            for (int y = 0; y < 8; y++) {
+                p[3 * n] = x;
+                p[3 * n + 1] = y;
+                p[3 * n + 2] = z;
+                n++;
+            }
+    const double inner[4][3] = {{3.5, 3.5, 1.5}, {1, 6, 2}, {6, 1, 1}, {2.25, 2.75, 0.5}};
+    for (int i = 0; i < 4; i++, n++)
+        for (int d = 0; d < 3; d++) p[3 * n + d] = inner[i][d];
+    for (uint64_t seed = 1; seed <= 3; seed++) {
+        shuffle(p, n, seed);
+        check_set("two coplanar hull faces", p, n, (int)seed);  /* 1, 2, 3 threads */
+    }
+    free(p);
+}
+
 /* proofs/termination.md T1.4: the visibility walk never needs its scan fallback. */
 static void test_walks_never_fall_back_to_the_scan(void)
 {
@@ -491,6 +515,7 @@ int main(void)
     TU_RUN(test_degenerate_input_reports_its_dimension);
     TU_RUN(test_nan_and_inf_name_the_input_index);
     TU_RUN(test_check_option_runs_the_checker);
+    TU_RUN(test_points_inserted_on_a_coplanar_hull_face_give_the_same_mesh_in_any_order);
     TU_RUN(test_walks_never_fall_back_to_the_scan);
     TU_RUN(test_rounds_insert_every_point_once_and_one_thread_defers_nothing);
     TU_RUN(test_parallel_rounds_end_within_the_pass_bound);
