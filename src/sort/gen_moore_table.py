@@ -158,14 +158,14 @@ def main():
     moore = find_moore_states()
     # number the Hilbert states reachable from the Moore octant states
     order = []
-    todo = list(moore)
-    while todo:
-        s = todo.pop(0)
+    queue = list(moore)
+    while queue:
+        s = queue.pop(0)
         if s in order:
             continue
         order.append(s)
         for l in range(8):
-            todo.append(step(s, l)[1])
+            queue.append(step(s, l)[1])
     num = {s: i for i, s in enumerate(order)}
     assert len(order) <= 31
     for s in order:
