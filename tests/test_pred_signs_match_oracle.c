@@ -2,7 +2,9 @@
  *
  * Specification: for every tuple of finite doubles, the filter is either undecided (0) or
  * equal to the exact sign; each exact stage (small integers, expansions, GMP) equals the exact
- * sign whenever it accepts the tuple; the whole chain and the public gtet_ wrappers equal it.
+ * sign whenever it accepts the tuple; the whole chain and the public gtet_ wrappers equal it;
+ * the filter given a static bound (the tuple's own box extents, filters.md section 8) is
+ * undecided or exact, and a zero static bound must err somewhere (the pre-check is live).
  * The exact sign is src/oracle (an independent mpz implementation).  Tuples: random doubles,
  * 1-2 ulp neighbours of exactly coplanar / co-spherical configurations, integer grids at the
  * int64 / __int128 / expansion boundaries, lattice points of integer spheres, points rounded
@@ -19,8 +21,22 @@
 #include <string.h>
 
 typedef struct stage_stats {
-    long tuples, filter_decided, int_used, wide_used, exp_used, zero, bad;
+    long tuples, filter_decided, zero_bound_wrong, int_used, wide_used, exp_used, zero, bad;
 } stage_stats;
+
+/* The computed extents of the tuple's box: the static bounds a caller holding exactly these
+ * points may pass (filter.h, proofs/filters.md section 8). */
+static void box_extents(double (*p)[3], int n, double ext[3])
+{
+    for (int j = 0; j < 3; j++) {
+        double lo = p[0][j], hi = p[0][j];
+        for (int i = 1; i < n; i++) {
+            if (p[i][j] < lo) lo = p[i][j];
+            if (p[i][j] > hi) hi = p[i][j];
+        }
+        ext[j] = hi - lo;
+    }
+}
 
 static stage_stats so, si; /* orient3d, insphere */
 
@@ -32,9 +48,17 @@ static void check_orient(double (*p)[3])
     memset(&cnt, 0, sizeof cnt);
     so.tuples++;
     so.zero += ref == 0;
-    int f = pred_orient3d_filter(a, b, c, d);
+    int f = pred_orient3d_filter(a, b, c, d, PRED_NO_STATIC);
     if (f) so.filter_decided++;
     int ok = (f == 0 || f == ref);
+    double ext[3];
+    box_extents(p, 4, ext);
+    const double seps = pred_orient3d_static_eps(ext[0], ext[1], ext[2]);
+    int fs = pred_orient3d_filter(a, b, c, d, seps);
+    ok &= fs == 0 || fs == ref;
+    /* liveness of the static pre-check: a bound of 0 lets it answer the rounded sign */
+    const int f0 = pred_orient3d_filter(a, b, c, d, 0.0);
+    so.zero_bound_wrong += f0 != 0 && f0 != ref;
     if (pred_orient3d_int(a, b, c, d, &s)) so.int_used++, ok &= s == ref;
     if (pred_orient3d_wide(a, b, c, d, &s)) so.wide_used++, ok &= s == ref;
     if (pred_orient3d_exp(a, b, c, d, &s)) so.exp_used++, ok &= s == ref;
@@ -54,9 +78,16 @@ static void check_insphere(double (*p)[3])
     memset(&cnt, 0, sizeof cnt);
     si.tuples++;
     si.zero += ref == 0;
-    int f = pred_insphere_filter(a, b, c, d, e);
+    int f = pred_insphere_filter(a, b, c, d, e, PRED_NO_STATIC);
     if (f) si.filter_decided++;
     int ok = (f == 0 || f == ref);
+    double ext[3];
+    box_extents(p, 5, ext);
+    const double seps = pred_insphere_static_eps(ext[0], ext[1], ext[2]);
+    int fs = pred_insphere_filter(a, b, c, d, e, seps);
+    ok &= fs == 0 || fs == ref;
+    const int f0 = pred_insphere_filter(a, b, c, d, e, 0.0);
+    si.zero_bound_wrong += f0 != 0 && f0 != ref;
     if (pred_insphere_int(a, b, c, d, e, &s)) si.int_used++, ok &= s == ref;
     if (pred_insphere_wide(a, b, c, d, e, &s)) si.wide_used++, ok &= s == ref;
     if (pred_insphere_exp(a, b, c, d, e, &s)) si.exp_used++, ok &= s == ref;
@@ -155,6 +186,7 @@ static void test_ulp_neighbours_of_coplanar_points_match_oracle(void)
     TEST_CHECK(so.zero > 1000, "too few exactly coplanar tuples: %ld", so.zero);
     TEST_CHECK(so.wide_used > 1000, "60-bit integer form barely used: %ld", so.wide_used);
     TEST_CHECK(so.int_used > 1000 && so.exp_used > 1000, "stages not exercised");
+    TEST_CHECK(so.zero_bound_wrong > 0, "the static pre-check is not live (a zero bound never erred)");
 }
 
 /* Lattice points on integer spheres, translated, scaled by 2^k, moved by ulps. */
@@ -184,6 +216,7 @@ static void test_ulp_neighbours_of_cospherical_points_match_oracle(void)
     report("cospherical lattice + ulps");
     TEST_CHECK(si.zero > 3000, "too few exactly co-spherical tuples: %ld", si.zero);
     TEST_CHECK(si.int_used > 1500 && si.exp_used > 3000, "stages not exercised");
+    TEST_CHECK(si.zero_bound_wrong > 0, "the static pre-check is not live (a zero bound never erred)");
 }
 
 /* Integer grids of several sizes, around the int64 / __int128 / expansion boundaries. */

@@ -16,18 +16,16 @@
  *    by the point.  Star-shapedness keeps the orientation positive (ghosts included, in the
  *    lifted picture), and a ghost keeps its vertex at infinity in slot 3.
  *  - adjacency: two new tets are adjacent across the facet holding the point and a boundary
- *    edge; each boundary edge is shared by exactly two boundary facets.  Edges are matched in a
- *    table indexed by cavity-local vertex ids (the paper's fast adjacency); the first visitor
- *    of an edge stores its facet, the second links both and clears the entry, so the table is
- *    empty again after every cavity (checked: a leftover entry is an internal error).
+ *    edge; each boundary edge is shared by exactly two boundary facets, which traverse it in
+ *    opposite directions (consistent orientation).  Directed edges are matched in a table
+ *    indexed by cavity-local vertex ids (the paper's fast adjacency; adjacency_fast), or by a
+ *    hash of the vertex pair for very large cavities (adjacency_hash).
  * No allocation in the loop except amortised growth of the per-thread buffers and the arrays.
  */
 #include "mesh.h"
 
 #include <stdlib.h>
 #include <string.h>
-
-#define TABLE_EMPTY UINT32_MAX
 
 gtet_status km_reserve(kmesh *m, size_t slots)
 {
@@ -46,11 +44,29 @@ gtet_status km_reserve(kmesh *m, size_t slots)
     return GTET_OK;
 }
 
+/* The filters' static bounds (filter.h, proofs/filters.md section 8): every point the kernel
+ * passes to a predicate is a vertex, so the computed extents of the vertices' box bound every
+ * computed translated coordinate. */
+static void static_bounds(kmesh *m)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (size_t i = 0; i < m->nv; i++)
+        for (int d = 0; d < 3; d++) {
+            const double x = m->v[3 * i + (size_t)d];
+            if (i == 0 || x < lo[d]) lo[d] = x;
+            if (i == 0 || x > hi[d]) hi[d] = x;
+        }
+    const double X = hi[0] - lo[0], Y = hi[1] - lo[1], Z = hi[2] - lo[2];
+    m->o3_seps = pred_orient3d_static_eps(X, Y, Z);
+    m->is_seps = pred_insphere_static_eps(X, Y, Z);
+}
+
 gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint)
 {
     memset(m, 0, sizeof *m);
     m->v = v;
     m->nv = nv;
+    static_bounds(m);
     m->vloc = malloc(nv ? nv : 1);
     if (!m->vloc) return GTET_ERR_OUT_OF_MEMORY;
     memset(m->vloc, 0xff, nv);
@@ -70,7 +86,6 @@ void kctx_init(kctx *c, kmesh *m, uint64_t seed)
     memset(c, 0, sizeof *c);
     c->m = m;
     c->rng = seed * 0x9e3779b97f4a7c15ULL + 1;
-    for (size_t i = 0; i < KM_LOC_MAX * KM_LOC_MAX; i++) c->table[i] = TABLE_EMPTY;
 }
 
 void kctx_free(kctx *c)
@@ -114,7 +129,7 @@ static inline int conflicts(kctx *c, uint32_t t, const double *p)
     const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
     const double *d = km_pt(m, v[3]);
     /* the filter inline (most calls stop here); the full chain counts its own call */
-    int s = pred_insphere_filter(a, b, cc, d, p);
+    int s = pred_insphere_filter(a, b, cc, d, p, m->is_seps);
     if (s != 0) {
         c->cnt.insphere_calls++;
         return s > 0;
@@ -131,7 +146,7 @@ static inline int orient_replaced(kctx *c, uint32_t t, int f, const double *p)
     for (int i = 0; i < 4; i++) q[i] = km_pt(m, v[i]);
     q[f] = p;
     c->cnt.orient_calls++;
-    int s = pred_orient3d_filter(q[0], q[1], q[2], q[3]);
+    int s = pred_orient3d_filter(q[0], q[1], q[2], q[3], m->o3_seps);
     return s ? s : pred_orient3d_exact(q[0], q[1], q[2], q[3], &c->cnt);
 }
 
@@ -252,79 +267,72 @@ static inline uint32_t take_slot(kctx *c)
     return (uint32_t)c->m->nt++;
 }
 
-/* Link the new tets' facets that contain the new point, through the edge table.  For new tet
- * s (point in slot f) and each other slot k, the facet opposite k holds the point and the edge
- * made of the two slots other than k and f. */
-static inline void link_edge(kmesh *m, uint32_t *cell, uint32_t handle, int *pending)
-{
-    if (*cell == TABLE_EMPTY) {
-        *cell = handle;
-        (*pending)++;
-    } else {
-        m->tn[*cell] = handle;
-        m->tn[handle] = *cell;
-        *cell = TABLE_EMPTY;
-        (*pending)--;
-    }
-}
+/* The new tets and their adjacency.  New tet i is boundary record i with the point in slot
+ * f; it is glued to the outer facet at once.  Its three facets holding the point are linked
+ * through the edge table, the paper's fast adjacency in HXT's branch-free form: write the
+ * boundary triangle of tet i as T = (t0, t1, t2), the slots other than f in the cyclic order
+ * TRI[f] for which (t0, t1, t2, f) is an even permutation of (0, 1, 2, 3).  Every new tet is
+ * positively oriented in the mesh's combinatorial orientation (ghosts included), and two
+ * consistently oriented tets induce opposite orientations on the facet they share, so the
+ * new tets across the edge t1 -> t2 of one triangle holds it as t2 -> t1 (the cavity
+ * boundary is a closed, consistently oriented surface).  Scatter: the facet opposite slot t0
+ * (which holds the point and the edge t1 -> t2) is stored at table[t1][t2], in cavity-local
+ * ids; gather: its neighbour is table[t2][t1].  Every directed edge of the boundary is written
+ * exactly once before the gather reads its reverse, so the table never needs clearing.
+ * Local ids: 0 for the vertex at infinity, 1.. for the finite boundary vertices in order of
+ * first sight (vloc, 0xff outside a cavity, reset at the end).  A closed boundary with nb
+ * triangles has nb/2 + 2 vertices (Euler), so nb <= KM_FAST_FACETS fits the 64 ids; the id
+ * count is checked anyway (a non-closed boundary would be an internal error, not an overflow).
+ * Returns 1 when done, 0 when the hash path must do it (nothing linked). */
+static const uint8_t TRI[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+#define KM_FAST_FACETS (2 * (KM_LOC_MAX - 3))
 
-/* For a new tet with the point in slot f, the facet opposite slot k (k != f) holds the point
- * and the edge of slots EDGE[f][k][0..1]. */
-static const uint8_t EDGE[4][4][2] = {
-    {{0, 0}, {2, 3}, {1, 3}, {1, 2}},
-    {{2, 3}, {0, 0}, {0, 3}, {0, 2}},
-    {{1, 3}, {0, 3}, {0, 0}, {0, 1}},
-    {{1, 2}, {0, 2}, {0, 1}, {0, 0}},
-};
-
-static gtet_status adjacency_fast(kctx *c, const uint32_t *slots, size_t nb, int *ok)
+static int adjacency_fast(kctx *c, const uint32_t *slots, size_t nb)
 {
+    if (nb > KM_FAST_FACETS) return 0;
     kmesh *m = c->m;
+    uint8_t *vloc = m->vloc;
+    uint32_t *tab = c->table;
+    uint32_t *tn = m->tn;
     const kbound *b = c->bnd;
-    /* cavity-local ids: 0 for the vertex at infinity, 1.. for finite boundary vertices in order
-     * of first sight.  vloc is 0xff for every vertex outside a cavity; the ids handed out are
-     * reset at the end, so no pass is needed to clear them first. */
-    uint32_t seen[KM_LOC_MAX];
+    uint32_t seen[KM_LOC_MAX + 3];
+    uint8_t loc[3 * KM_FAST_FACETS];
     unsigned next = 1;
-    int pending = 0;
-    *ok = 1;
     for (size_t i = 0; i < nb; i++) {
-        const uint32_t f = b[i].f;
-        unsigned loc[4];
-        for (uint32_t k = 0; k < 4; k++) {
-            uint32_t v = b[i].v[k];
-            if (k == f) continue;
-            if (v == KM_GHOST) {
-                loc[k] = 0;
-                continue;
-            }
-            unsigned l = m->vloc[v];
-            if (l == 0xff) {
-                if (next >= KM_LOC_MAX) {  /* too many: undo and let the hash path do it */
-                    *ok = 0;
-                    break;
-                }
+        const uint8_t *T = TRI[b[i].f];
+        for (int j = 0; j < 3; j++) {
+            const uint32_t v = b[i].v[T[j]];
+            unsigned l = 0;
+            if (v != KM_GHOST) {
+                l = vloc[v];
+                const unsigned fresh = l == 0xff;
+                l = fresh ? next : l;
+                vloc[v] = (uint8_t)l;
                 seen[next] = v;
-                l = next++;
-                m->vloc[v] = (uint8_t)l;
+                next += fresh;
             }
-            loc[k] = l;
+            loc[3 * i + (size_t)j] = (uint8_t)l;
         }
-        if (!*ok) break;
-        for (uint32_t k = 0; k < 4; k++) {
-            if (k == f) continue;
-            unsigned la = loc[EDGE[f][k][0]], lb = loc[EDGE[f][k][1]];
-            unsigned lo = la < lb ? la : lb, hi = la < lb ? lb : la;
-            link_edge(m, &c->table[lo * KM_LOC_MAX + hi], 4 * slots[i] + k, &pending);
+        if (next > KM_LOC_MAX) {  /* cannot happen for a closed boundary: give up */
+            for (unsigned l = 1; l < next; l++) vloc[seen[l]] = 0xff;
+            return 0;
         }
+        const unsigned l0 = loc[3 * i], l1 = loc[3 * i + 1], l2 = loc[3 * i + 2];
+        const uint32_t h = 4 * slots[i];
+        tab[l1 * KM_LOC_MAX + l2] = h + T[0];
+        tab[l2 * KM_LOC_MAX + l0] = h + T[1];
+        tab[l0 * KM_LOC_MAX + l1] = h + T[2];
     }
-    for (unsigned l = 1; l < next; l++) m->vloc[seen[l]] = 0xff;
-    if (!*ok) {
-        /* clear the half-filled table: every entry written so far was for this cavity */
-        for (size_t i = 0; i < (size_t)KM_LOC_MAX * KM_LOC_MAX; i++) c->table[i] = TABLE_EMPTY;
-        return GTET_OK;
+    for (size_t i = 0; i < nb; i++) {
+        const uint8_t *T = TRI[b[i].f];
+        const unsigned l0 = loc[3 * i], l1 = loc[3 * i + 1], l2 = loc[3 * i + 2];
+        const uint32_t h = 4 * slots[i];
+        tn[h + T[0]] = tab[l2 * KM_LOC_MAX + l1];
+        tn[h + T[1]] = tab[l0 * KM_LOC_MAX + l2];
+        tn[h + T[2]] = tab[l1 * KM_LOC_MAX + l0];
     }
-    return pending == 0 ? GTET_OK : GTET_ERR_INTERNAL;
+    for (unsigned l = 1; l < next; l++) vloc[seen[l]] = 0xff;
+    return 1;
 }
 
 /* Fallback for large cavities: open addressing on the (min, max) vertex pair. */
@@ -434,23 +442,21 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
                 kbound *b = &c->bnd[nb++];
                 memcpy(b->v, m->tv + 4 * (size_t)t, sizeof b->v);
                 b->v[0] &= ~KM_DEAD;  /* t is already marked */
+                /* A ghost whose finite facet is on the boundary becomes a finite tet
+                 * (a,b,c,p).  The consistency of the hull rule with the interior rule
+                 * (proofs/perturbation.md) makes it positively oriented; a flat or inverted
+                 * tet would be a predicate bug, so it is checked (only for points outside
+                 * the current hull). */
+                if (f == 3 && b->v[3] == KM_GHOST &&
+                    pred_orient3d(km_pt(m, b->v[0]), km_pt(m, b->v[1]), km_pt(m, b->v[2]), p,
+                                  &c->cnt) <= 0) {
+                    rollback(c, ncav);
+                    return GTET_ERR_INTERNAL;
+                }
                 b->v[f] = pid;
                 b->outer = h;
                 b->f = f;
             }
-        }
-    }
-    /* A ghost whose finite facet is on the boundary becomes a finite tet (a,b,c,p).  The
-     * consistency of the hull rule with the interior rule (proofs/perturbation.md) makes it
-     * positively oriented; a flat or inverted tet here would be a predicate bug, so it is
-     * checked (this only happens for points outside the current hull). */
-    for (size_t i = 0; i < nb; i++) {
-        const kbound *b = &c->bnd[i];
-        if (b->f == 3 && b->v[3] == pid &&
-            pred_orient3d(km_pt(m, b->v[0]), km_pt(m, b->v[1]), km_pt(m, b->v[2]), p,
-                          &c->cnt) <= 0) {
-            rollback(c, ncav);
-            return GTET_ERR_INTERNAL;
         }
     }
 
@@ -485,10 +491,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
         m->tn[4 * (size_t)n + b->f] = b->outer;
         m->tn[b->outer] = 4 * n + b->f;
     }
-    int ok = 0;
-    s = adjacency_fast(c, slots, nb, &ok);
-    if (s != GTET_OK) return s;
-    if (!ok) {
+    if (!adjacency_fast(c, slots, nb)) {
         s = adjacency_hash(c, slots, nb);
         if (s != GTET_OK) return s;
     }

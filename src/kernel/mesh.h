@@ -39,6 +39,7 @@ typedef struct kmesh {
     size_t nt;          /* slots in use (live and deleted) */
     size_t cap;         /* slots allocated */
     uint8_t *vloc;      /* cavity-local id of each vertex (scratch, nv bytes) */
+    double o3_seps, is_seps; /* the filters' static bounds for these vertices (filter.h) */
 } kmesh;
 
 /* One boundary facet of a cavity: the new tet it becomes (the deleted tet's vertices with the
@@ -61,7 +62,7 @@ typedef struct kctx {
     uint32_t last;      /* a live tet near the last insertion: the next walk starts here */
     uint64_t rng;
     uint64_t walk_steps, walk_fallbacks, tets_created, big_cavities;
-    uint32_t table[KM_LOC_MAX * KM_LOC_MAX]; /* edge -> facet handle, kept all-empty */
+    uint32_t table[KM_LOC_MAX * KM_LOC_MAX]; /* directed edge -> facet handle (adjacency_fast) */
     uint64_t *htab;     /* fallback edge table for cavities with > 63 boundary vertices */
     size_t htab_cap;
     /* parallel passes (parallel.c): vertex colours, this thread's colour, a block of fresh

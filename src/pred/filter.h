@@ -1,7 +1,10 @@
 /* filter.h -- semi-static floating-point filters for orient3d and insphere (stage 1).
  *
  * Each filter returns +1 or -1 when the sign of the double evaluation is certainly the sign of
- * the exact determinant, and 0 ("undecided": go to the exact stage) otherwise.  They are static
+ * the exact determinant, and 0 ("undecided": go to the exact stage) otherwise.  A caller that
+ * knows a box holding all its points (the kernel) also passes a static bound, the same eps
+ * evaluated on the box's extents (pred_*_static_eps): it is tested first, before the maxima are
+ * computed, and is sound by the same proof (proofs/filters.md section 8).  They are static
  * inline so that the kernel's cavity test can inline them; the exact stage is in orient3d.c /
  * insphere.c.
  *
@@ -93,9 +96,35 @@ static inline double pred_fabs_(double x) { return __builtin_fabs(x); }
 static inline double pred_max_(double x, double y) { return x < y ? y : x; }
 static inline double pred_min_(double x, double y) { return x < y ? x : y; }
 
-/* +1 / -1 when certain, 0 undecided. */
+/* No static bound: the filters below then use only their semi-static bound. */
+#define PRED_NO_STATIC (__builtin_inf())
+
+/* Static bounds (proofs/filters.md section 8).  X, Y, Z must be upper bounds of |translated
+ * coordinate| on each axis for every tuple the caller will pass, e.g. the computed extents
+ * fl(max_x - min_x) of a box holding all its points (rounding is monotone, so every computed
+ * difference of two of them is at most that in magnitude).  The result is the filter's eps
+ * evaluated on those bounds, in the same order (the same Gappa goal 2 covers its rounding), or
+ * PRED_NO_STATIC when the bounds fail the guards. */
+static inline double pred_orient3d_static_eps(double X, double Y, double Z)
+{
+    const double lo = X < Y ? (X < Z ? X : Z) : (Y < Z ? Y : Z);
+    const double hi = X < Y ? (Y < Z ? Z : Y) : (X < Z ? Z : X);
+    if (!(lo >= PRED_O3_LO && hi <= PRED_O3_HI)) return PRED_NO_STATIC;
+    return ((PRED_O3_C * X) * Y) * Z;
+}
+
+static inline double pred_insphere_static_eps(double X, double Y, double Z)
+{
+    const double lo = X < Y ? (X < Z ? X : Z) : (Y < Z ? Y : Z);
+    const double M = X < Y ? (Y < Z ? Z : Y) : (X < Z ? Z : X);
+    if (!(lo >= PRED_IS_LO && M <= PRED_IS_HI)) return PRED_NO_STATIC;
+    return ((((PRED_IS_C * X) * Y) * Z) * M) * M;
+}
+
+/* +1 / -1 when certain, 0 undecided.  seps: a static bound (pred_orient3d_static_eps) valid
+ * for this tuple, or PRED_NO_STATIC; the static test runs first because it needs no maxima. */
 static inline int pred_orient3d_filter(const double *a, const double *b, const double *c,
-                                       const double *d)
+                                       const double *d, double seps)
 {
     const double px = b[0] - a[0], py = b[1] - a[1], pz = b[2] - a[2];
     const double qx = c[0] - a[0], qy = c[1] - a[1], qz = c[2] - a[2];
@@ -104,6 +133,8 @@ static inline int pred_orient3d_filter(const double *a, const double *b, const d
     const double m2 = qz * rx - qx * rz;
     const double m3 = qx * ry - qy * rx;
     const double det = (px * m1 + py * m2) + pz * m3;
+    if (det > seps) return 1;   /* never taken for a NaN det or an infinite seps */
+    if (det < -seps) return -1;
     const double X = pred_max_(pred_max_(pred_fabs_(px), pred_fabs_(qx)), pred_fabs_(rx));
     const double Y = pred_max_(pred_max_(pred_fabs_(py), pred_fabs_(qy)), pred_fabs_(ry));
     const double Z = pred_max_(pred_max_(pred_fabs_(pz), pred_fabs_(qz)), pred_fabs_(rz));
@@ -115,9 +146,9 @@ static inline int pred_orient3d_filter(const double *a, const double *b, const d
     return (det > eps) - (det < -eps);
 }
 
-/* +1 / -1 when certain, 0 undecided. */
+/* +1 / -1 when certain, 0 undecided; seps as for orient3d (pred_insphere_static_eps). */
 static inline int pred_insphere_filter(const double *a, const double *b, const double *c,
-                                       const double *d, const double *e)
+                                       const double *d, const double *e, double seps)
 {
     const double ax = a[0] - e[0], ay = a[1] - e[1], az = a[2] - e[2];
     const double bx = b[0] - e[0], by = b[1] - e[1], bz = b[2] - e[2];
@@ -138,6 +169,8 @@ static inline int pred_insphere_filter(const double *a, const double *b, const d
     const double cw = (cx * cx + cy * cy) + cz * cz;
     const double dw = (dx * dx + dy * dy) + dz * dz;
     const double det = (cw * dab - dw * abc) + (aw * bcd - bw * cda);
+    if (det > seps) return 1;
+    if (det < -seps) return -1;
     const double X = pred_max_(pred_max_(pred_fabs_(ax), pred_fabs_(bx)),
                                pred_max_(pred_fabs_(cx), pred_fabs_(dx)));
     const double Y = pred_max_(pred_max_(pred_fabs_(ay), pred_fabs_(by)),

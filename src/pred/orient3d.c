@@ -24,7 +24,7 @@ int pred_orient3d(const double *a, const double *b, const double *c, const doubl
                   pred_counters *cnt)
 {
     cnt->orient_calls++;
-    int s = pred_orient3d_filter(a, b, c, d);
+    int s = pred_orient3d_filter(a, b, c, d, PRED_NO_STATIC);
     if (s != 0) return s;
     return pred_orient3d_exact(a, b, c, d, cnt);
 }

@@ -38,7 +38,7 @@ int pred_insphere(const double *a, const double *b, const double *c, const doubl
 
 /* For a caller that inlines the filter (filter.h) itself, e.g. the kernel's cavity test:
  *     cnt->insphere_calls++;
- *     int s = pred_insphere_filter(a, b, c, d, e);
+ *     int s = pred_insphere_filter(a, b, c, d, e, PRED_NO_STATIC);
  *     if (s == 0) s = pred_insphere_exact(a, b, c, d, e, cnt);
  * is exactly pred_insphere (same for orient3d).  The _exact functions count *_exact and
  * the stage / zero counters, not *_calls. */
