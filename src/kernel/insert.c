@@ -118,6 +118,17 @@ static inline uint32_t rng_next(kctx *c)
     return (uint32_t)(c->rng >> 33);
 }
 
+/* The cavity search will read the records of t's neighbours: start loading them now, while
+ * the tets queued before t are processed (a hint only).  Measured against one 32-byte record
+ * per tet holding vertices and neighbours together (one line per tet instead of two): with
+ * this prefetch the two arrays are as fast, and their compaction allocates nothing
+ * (NOTES.md 2026-11-23). */
+static inline void prefetch_neighbours(const kmesh *m, uint32_t t)
+{
+    const uint32_t *n = m->tn + 4 * (size_t)t;
+    for (int f = 0; f < 4; f++) __builtin_prefetch(m->tv + 4 * (size_t)(n[f] >> 2));
+}
+
 /* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)? */
 static inline int conflicts(kctx *c, uint32_t t, const double *p)
 {
@@ -416,6 +427,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     if (grow((void **)&c->cav, &c->cav_cap, 64, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
     c->cav[ncav++] = t0;
     km_kill(m, t0);
+    prefetch_neighbours(m, t0);
     for (size_t i = 0; i < ncav; i++) {
         uint32_t t = c->cav[i];
         for (uint32_t f = 0; f < 4; f++) {
@@ -433,6 +445,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
                     return GTET_ERR_OUT_OF_MEMORY;
                 }
                 km_kill(m, u);
+                prefetch_neighbours(m, u);
                 c->cav[ncav++] = u;
             } else {
                 if (grow((void **)&c->bnd, &c->bnd_cap, nb + 1, sizeof *c->bnd)) {
