@@ -133,7 +133,8 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     kmesh m;
     s = km_init(&m, sv, nv, hint);
     if (threads > 255) threads = 255;
-    kctx *ctx = calloc((size_t)threads, sizeof *ctx);
+    kctx *ctx = aligned_alloc(_Alignof(kctx), (size_t)threads * sizeof *ctx);
+    if (ctx) memset(ctx, 0, (size_t)threads * sizeof *ctx);
     kpar P;
     memset(&P, 0, sizeof P);
     if (!ctx) s = GTET_ERR_OUT_OF_MEMORY;
