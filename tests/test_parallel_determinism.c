@@ -288,10 +288,26 @@ static void test_cospherical_integer_points_give_the_same_tets_in_parallel(void)
     free(p);
 }
 
+/* Half the points in a cube of side 1e-9: far below one Moore cell (2^-21 of the box), so
+ * tens of thousands of pending points share one key; slices are never cut between equal keys,
+ * so some slices come out empty or tiny, and the colour boundaries must still give every
+ * point its own slice's colour (proofs/parallel.md O1). */
+static void test_points_sharing_one_moore_key_give_the_same_tets_in_parallel(void)
+{
+    const size_t half = N_RANDOM / 4;
+    double *p = uniform(2 * half, 77);
+    TEST_REQUIRE(p != NULL, "out of memory");
+    for (size_t i = half; i < 2 * half; i++)
+        for (int j = 0; j < 3; j++) p[3 * i + (size_t)j] = 0.5 + 1e-9 * p[3 * i + (size_t)j];
+    same_tets_for_every_thread_count_and_order("one-key cluster", p, 2 * half);
+    free(p);
+}
+
 int main(void)
 {
     TU_RUN(test_random_points_give_the_same_tets_for_1_2_3_4_8_threads_and_shuffled);
     TU_RUN(test_integer_grid_every_insphere_degenerate_gives_the_same_tets_in_parallel);
     TU_RUN(test_cospherical_integer_points_give_the_same_tets_in_parallel);
+    TU_RUN(test_points_sharing_one_moore_key_give_the_same_tets_in_parallel);
     return tu_finish();
 }

@@ -1,9 +1,12 @@
 /* parallel.c -- concurrent insertion of one BRIO round on Moore-curve partitions (paper §4).
  *
  * A pass: the pending points of the round get Moore keys on a bounding box (the tight box in
- * the first pass, an enlarged and shifted one in later passes), are sorted by key and cut into
- * one slice per thread, never between equal keys.  The slice bounds colour every vertex of the
- * mesh (colour = the slice its key falls in).  Thread k inserts the points of slice k, and an
+ * the first pass: every vertex's key on it is computed once for the whole run; an enlarged and
+ * shifted one in later passes, where only the vertices of the mesh are re-keyed), are sorted by
+ * key and cut into one slice per thread, never between equal keys.  The colour boundaries lie
+ * halfway along the (looping) curve between two slices' neighbouring points, and they colour
+ * every vertex the mesh holds by the end of the round (colour = the slice range its key falls
+ * in); vertices of later rounds are never read.  Thread k inserts the points of slice k, and an
  * insertion goes ahead only if the walk and every tet of the cavity stay within tets whose
  * finite vertices all have colour k (km_insert defers the point otherwise, having written
  * nothing).  proofs/parallel.md shows that two threads then never write, or write and read,
@@ -39,6 +42,7 @@
 
 #define KEY_BITS 21           /* per axis: 63-bit Moore keys */
 #define MIN_PER_THREAD 2048   /* fewer points per thread: fewer threads */
+#define KEY_MASK ((UINT64_C(1) << (3 * KEY_BITS)) - 1)
 
 static uint64_t mix64(uint64_t z)
 {
@@ -74,7 +78,8 @@ gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads)
     P->threads = threads;
     P->colour = malloc(m->nv ? m->nv : 1);
     P->keys = malloc((m->nv ? m->nv : 1) * sizeof *P->keys);
-    if (!P->colour || !P->keys) return GTET_ERR_OUT_OF_MEMORY;
+    P->skeys = malloc((m->nv ? m->nv : 1) * sizeof *P->skeys);
+    if (!P->colour || !P->keys || !P->skeys) return GTET_ERR_OUT_OF_MEMORY;
     double *b = P->bbox;
     b[0] = b[1] = b[2] = 0;
     b[3] = b[4] = b[5] = 0;
@@ -91,11 +96,13 @@ void kpar_free(kpar *P)
 {
     free(P->colour);
     free(P->keys);
+    free(P->skeys);
     free(P->pk);
     free(P->tk);
     free(P->ti);
     P->colour = NULL;
     P->keys = NULL;
+    P->skeys = NULL;
     P->pk = P->tk = NULL;
     P->ti = NULL;
 }
@@ -147,23 +154,40 @@ static int find_start(kctx *c, int nthreads)
     return 0;
 }
 
-/* One parallel pass over pts[0..np) with `nth` threads; deferred points are moved to the front
- * of pts and counted in *left. */
-static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, int nth, unsigned pass,
-                                 size_t *left, int *out_of_room)
+/* A key strictly after x and at most y, about halfway along the (looping) curve from x to y
+ * (x itself when x == y). */
+static uint64_t key_mid(uint64_t x, uint64_t y)
+{
+    const uint64_t d = (y - x) & KEY_MASK;
+    return (x + (d + 1) / 2) & KEY_MASK;
+}
+
+/* One parallel pass over pts[0..np) with `nth` threads; the mesh holds (or will hold, at the
+ * end of this round) the vertices 0..nmesh-1.  Deferred points are moved to the front of pts
+ * and counted in *left. */
+static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
+                                 unsigned pass, size_t *left, int *out_of_room)
 {
     kmesh *m = P->m;
-    double box[6];
-    pass_box(P->bbox, pass, box);
-    /* keys of every vertex on this pass's curve */
-    sort_moore_keys(m->v, 3, m->nv, box, KEY_BITS, P->keys, nth);
-    for (size_t i = 0; i < np; i++) {
-        P->pk[i] = P->keys[pts[i]];
+    /* keys: the tight box's (every vertex, computed once) in a round's first pass; later passes
+     * re-key the vertices in the mesh on an enlarged, shifted box (paper section 4.2) */
+    const uint64_t *keys;
+    if (pass > 0) {
+        double box[6];
+        pass_box(P->bbox, pass, box);
+        sort_moore_keys(m->v, 3, nmesh, box, KEY_BITS, P->skeys, nth);
+        keys = P->skeys;
+    } else {
+        if (!P->have_keys) {
+            sort_moore_keys(m->v, 3, m->nv, P->bbox, KEY_BITS, P->keys, nth);
+            P->have_keys = 1;
+        }
+        keys = P->keys;
     }
+    for (size_t i = 0; i < np; i++) P->pk[i] = keys[pts[i]];
     sort_radix_pairs(P->pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
-    /* slice bounds, moved forward past equal keys */
+    /* slices of (nearly) equal counts, moved forward past equal keys */
     size_t begin[256], end[256];
-    uint64_t lo_key[256];
     size_t prev = 0;
     for (int k = 0; k < nth; k++) {
         size_t b = prev, e = (k == nth - 1) ? np : np / (size_t)nth * (size_t)(k + 1);
@@ -171,20 +195,34 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, int nth, uns
         while (e < np && e > 0 && P->pk[e] == P->pk[e - 1]) e++;
         begin[k] = b;
         end[k] = e;
-        lo_key[k] = b < np ? P->pk[b] : UINT64_MAX;
         prev = e;
     }
-    /* colour = the slice whose key range holds the vertex's key; keys below the first slice's
-     * first key belong to the last slice (the Moore curve is a loop) */
-    const size_t nv = m->nv;
+    /* colour boundaries: halfway along the curve between the last point of the previous
+     * slice and the first of this one (cyclically), strictly after the former, so that every
+     * point's colour is its own slice's (O1).  rel[k] is slice k's boundary measured from
+     * slice 0's (the curve is a loop); a vertex's colour is the largest k with rel[k] <= its
+     * key so measured.  An empty slice (equal keys moved its points to the previous one) takes
+     * the next non-empty slice's boundary, or one past every key when none follows, so that it
+     * never wins. */
+    uint64_t rel[256];
+    uint64_t bound0 = 0;
+    for (int k = nth - 1; k >= 0; k--) {
+        if (begin[k] >= end[k]) {
+            rel[k] = k == nth - 1 ? KEY_MASK + 1 : rel[k + 1];
+            continue;
+        }
+        const size_t before = begin[k] ? begin[k] - 1 : np - 1;
+        rel[k] = key_mid(P->pk[before], P->pk[begin[k]]);  /* absolute for now */
+        if (k == 0) bound0 = rel[0];
+    }
+    for (int k = 0; k < nth; k++)
+        if (rel[k] <= KEY_MASK) rel[k] = (rel[k] - bound0) & KEY_MASK;
     uint8_t *col = P->colour;
-    const uint64_t *keys = P->keys;
 #pragma omp parallel for num_threads(nth) schedule(static)
-    for (size_t v = 0; v < nv; v++) {
-        uint64_t key = keys[v];
+    for (size_t v = 0; v < nmesh; v++) {
+        const uint64_t key = (keys[v] - bound0) & KEY_MASK;
         int k = nth - 1;
-        while (k > 0 && (lo_key[k] == UINT64_MAX || key < lo_key[k])) k--;
-        if (key < lo_key[0]) k = nth - 1;
+        while (k > 0 && key < rel[k]) k--;
         col[v] = (uint8_t)k;
     }
 
@@ -246,6 +284,9 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
     int nth = P->threads;
     if (nth > 255) nth = 255;
     unsigned pass = 0;
+    size_t nmesh = 0;  /* after this round the mesh holds the vertices 0..nmesh-1 */
+    for (size_t i = 0; i < np; i++)
+        if (pts[i] >= nmesh) nmesh = (size_t)pts[i] + 1;
     if (np > P->cap_pending) {
         free(P->pk);
         free(P->tk);
@@ -271,7 +312,7 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
         if (s != GTET_OK) return s;
         size_t left = 0;
         int out_of_room = 0;
-        s = pass_parallel(P, pts, np, nth, pass, &left, &out_of_room);
+        s = pass_parallel(P, pts, np, nmesh, nth, pass, &left, &out_of_room);
         if (s != GTET_OK) return s;
         size_t inserted = np - left;
         P->done += inserted;

@@ -11,7 +11,9 @@ typedef struct kpar {
     int threads;
     double bbox[6];     /* tight box of all vertices */
     uint8_t *colour;    /* per vertex, valid during a pass */
-    uint64_t *keys;     /* per vertex, this pass's Moore keys */
+    uint64_t *keys;     /* per vertex, Moore keys on the tight box (computed once) */
+    int have_keys;
+    uint64_t *skeys;    /* per vertex in the mesh, keys on a later pass's shifted box */
     uint64_t *pk, *tk;  /* pending points' keys and radix scratch */
     uint32_t *ti;
     size_t cap_pending;
