@@ -18,6 +18,7 @@
 #include "pred_gen.h"
 #include "testutil.h"
 
+#include <math.h>
 #include <string.h>
 
 typedef struct stage_stats {
@@ -298,6 +299,76 @@ static void test_extreme_magnitudes_match_oracle(void)
     TEST_CHECK(so.zero > 120 && si.zero > 120, "too few zeros among extreme tuples");
 }
 
+/* Lattice exactness (pred_static, proofs/filters.md section 9).  Tuples of a lattice 2^s Z^3
+ * (plus an offset on the lattice) whose extents are at most E units: pred_static_init must
+ * call the filters exact exactly within the proved limits, and then the filter with the
+ * static bound 0 must give the oracle's sign, 0 included.  Coordinates are drawn from
+ * {0, 1, E-1, E} and uniform [0, E] so that the intermediates reach their bounds.  Returns the
+ * number of tuples where the filter's answer differs from the oracle's. */
+static long lattice_mismatches(int insphere, long E, int s, int tuples, uint64_t seed,
+                               int expect_exact)
+{
+    tu_rng r = {seed};
+    long bad = 0;
+    for (int t = 0; t < tuples; t++) {
+        double p[7][3];  /* 5 tuple points and two corners fixing the extents at E */
+        const double off = ldexp((double)tu_below(&r, (uint64_t)1 << 30), s);
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) {
+                const uint64_t k = tu_below(&r, 8);
+                const long v = k == 0 ? 0 : k == 1 ? 1 : k == 2 ? E - 1 : k == 3 ? E
+                                                 : (long)tu_below(&r, (uint64_t)E + 1);
+                p[i][j] = off + ldexp((double)v, s);
+            }
+        for (int j = 0; j < 3; j++) {
+            p[5][j] = off;
+            p[6][j] = off + ldexp((double)E, s);
+        }
+        pred_static ps;
+        pred_static_init(&p[0][0], 3, 7, &ps);
+        const int exact = insphere ? ps.is_exact : ps.o3_exact;
+        if (exact != expect_exact) {
+            TEST_CHECK(0, "E=%ld s=%d: pred_static_init says %s", E, s, exact ? "exact" : "not exact");
+            return -1;
+        }
+        const int ref = insphere ? orc_insphere(p[0], p[1], p[2], p[3], p[4])
+                                 : orc_orient3d(p[0], p[1], p[2], p[3]);
+        const int f = insphere ? pred_insphere_filter(p[0], p[1], p[2], p[3], p[4], 0.0)
+                               : pred_orient3d_filter(p[0], p[1], p[2], p[3], 0.0);
+        bad += f != ref;
+    }
+    return bad;
+}
+
+static void test_lattice_filters_are_exact_within_the_proved_extents(void)
+{
+    static const int scales[] = {-214, -100, -1, 0, 7, 194};
+    for (size_t k = 0; k < sizeof scales / sizeof *scales; k++) {
+        const int s = scales[k];
+        long b = lattice_mismatches(1, (long)PRED_IS_LATTICE_E, s, 20000, 11 + k, 1);
+        TEST_CHECK(b == 0, "insphere, E=%ld, s=%d: %ld tuples differ from the oracle",
+                   (long)PRED_IS_LATTICE_E, s, b);
+        {
+            b = lattice_mismatches(0, (long)PRED_O3_LATTICE_E, s, 20000, 31 + k, 1);
+            TEST_CHECK(b == 0, "orient3d, E=%ld, s=%d: %ld tuples differ from the oracle",
+                       (long)PRED_O3_LATTICE_E, s, b);
+        }
+    }
+    /* just past the limits, or outside the exponent range: not exact */
+    TEST_CHECK(lattice_mismatches(1, (long)PRED_IS_LATTICE_E + 1, 0, 10, 5, 0) >= 0, "E+1");
+    TEST_CHECK(lattice_mismatches(0, (long)PRED_O3_LATTICE_E + 1, 0, 10, 6, 0) >= 0, "E+1");
+    TEST_CHECK(lattice_mismatches(1, 100, -215, 10, 7, 0) >= 0, "s = -215");
+    TEST_CHECK(lattice_mismatches(1, 100, 195, 10, 8, 0) >= 0, "s = 195");
+    /* the limits are not vacuous: far past them a zero static bound gives wrong answers */
+    const long far = lattice_mismatches(1, 1L << 20, 0, 20000, 9, 0);
+    TEST_CHECK(far > 0, "insphere on a 2^20 lattice never erred with a zero bound");
+    pred_static ps;
+    double q[2][3] = {{0.1, 0.2, 0.3}, {0.7, 0.5, 0.9}};
+    pred_static_init(&q[0][0], 3, 2, &ps);
+    TEST_CHECK(!ps.is_exact && !ps.o3_exact && ps.is_seps > 0 && ps.o3_seps > 0,
+               "non-lattice doubles called exact");
+}
+
 int main(void)
 {
     TU_RUN(test_random_unit_doubles_match_oracle);
@@ -307,5 +378,6 @@ int main(void)
     TU_RUN(test_integer_grids_match_oracle);
     TU_RUN(test_points_rounded_onto_a_sphere_match_oracle);
     TU_RUN(test_extreme_magnitudes_match_oracle);
+    TU_RUN(test_lattice_filters_are_exact_within_the_proved_extents);
     return tu_finish();
 }

@@ -44,29 +44,12 @@ gtet_status km_reserve(kmesh *m, size_t slots)
     return GTET_OK;
 }
 
-/* The filters' static bounds (filter.h, proofs/filters.md section 8): every point the kernel
- * passes to a predicate is a vertex, so the computed extents of the vertices' box bound every
- * computed translated coordinate. */
-static void static_bounds(kmesh *m)
-{
-    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (size_t i = 0; i < m->nv; i++)
-        for (int d = 0; d < 3; d++) {
-            const double x = m->v[3 * i + (size_t)d];
-            if (i == 0 || x < lo[d]) lo[d] = x;
-            if (i == 0 || x > hi[d]) hi[d] = x;
-        }
-    const double X = hi[0] - lo[0], Y = hi[1] - lo[1], Z = hi[2] - lo[2];
-    m->o3_seps = pred_orient3d_static_eps(X, Y, Z);
-    m->is_seps = pred_insphere_static_eps(X, Y, Z);
-}
-
 gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint)
 {
     memset(m, 0, sizeof *m);
     m->v = v;
     m->nv = nv;
-    static_bounds(m);
+    pred_static_init(v, 3, nv, &m->ps);  /* every point the kernel tests is a vertex */
     m->vloc = malloc(nv ? nv : 1);
     if (!m->vloc) return GTET_ERR_OUT_OF_MEMORY;
     memset(m->vloc, 0xff, nv);
@@ -140,12 +123,12 @@ static inline int conflicts(kctx *c, uint32_t t, const double *p)
     const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
     const double *d = km_pt(m, v[3]);
     /* the filter inline (most calls stop here); the full chain counts its own call */
-    int s = pred_insphere_filter(a, b, cc, d, p, m->is_seps);
+    int s = pred_insphere_filter(a, b, cc, d, p, m->ps.is_seps);
     if (s != 0) {
         c->cnt.insphere_calls++;
         return s > 0;
     }
-    return pred_insphere_sos(a, b, cc, d, p, &c->cnt) > 0;
+    return pred_insphere_sos_rest(a, b, cc, d, p, &m->ps, &c->cnt) > 0;
 }
 
 /* orient3d of tet t with its vertex f replaced by p (t finite). */
@@ -157,8 +140,8 @@ static inline int orient_replaced(kctx *c, uint32_t t, int f, const double *p)
     for (int i = 0; i < 4; i++) q[i] = km_pt(m, v[i]);
     q[f] = p;
     c->cnt.orient_calls++;
-    int s = pred_orient3d_filter(q[0], q[1], q[2], q[3], m->o3_seps);
-    return s ? s : pred_orient3d_exact(q[0], q[1], q[2], q[3], &c->cnt);
+    int s = pred_orient3d_filter(q[0], q[1], q[2], q[3], m->ps.o3_seps);
+    return s ? s : pred_orient3d_rest(q[0], q[1], q[2], q[3], &m->ps, &c->cnt);
 }
 
 /* Linear scan for a live tet in conflict with p: the walk's guaranteed fallback. */

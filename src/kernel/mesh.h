@@ -39,7 +39,7 @@ typedef struct kmesh {
     size_t nt;          /* slots in use (live and deleted) */
     size_t cap;         /* slots allocated */
     uint8_t *vloc;      /* cavity-local id of each vertex (scratch, nv bytes) */
-    double o3_seps, is_seps; /* the filters' static bounds for these vertices (filter.h) */
+    pred_static ps;     /* static bounds / lattice exactness for these vertices (pred.h) */
 } kmesh;
 
 /* One boundary facet of a cavity: the new tet it becomes (the deleted tet's vertices with the

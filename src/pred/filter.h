@@ -135,6 +135,7 @@ static inline int pred_orient3d_filter(const double *a, const double *b, const d
     const double det = (px * m1 + py * m2) + pz * m3;
     if (det > seps) return 1;   /* never taken for a NaN det or an infinite seps */
     if (det < -seps) return -1;
+    if (seps == 0) return 0;    /* exact evaluation (lattice, proofs/filters.md 9): det~ = 0 */
     const double X = pred_max_(pred_max_(pred_fabs_(px), pred_fabs_(qx)), pred_fabs_(rx));
     const double Y = pred_max_(pred_max_(pred_fabs_(py), pred_fabs_(qy)), pred_fabs_(ry));
     const double Z = pred_max_(pred_max_(pred_fabs_(pz), pred_fabs_(qz)), pred_fabs_(rz));
@@ -171,6 +172,7 @@ static inline int pred_insphere_filter(const double *a, const double *b, const d
     const double det = (cw * dab - dw * abc) + (aw * bcd - bw * cda);
     if (det > seps) return 1;
     if (det < -seps) return -1;
+    if (seps == 0) return 0;
     const double X = pred_max_(pred_max_(pred_fabs_(ax), pred_fabs_(bx)),
                                pred_max_(pred_fabs_(cx), pred_fabs_(dx)));
     const double Y = pred_max_(pred_max_(pred_fabs_(ay), pred_fabs_(by)),

@@ -47,6 +47,33 @@ int pred_orient3d_exact(const double *a, const double *b, const double *c, const
 int pred_insphere_exact(const double *a, const double *b, const double *c, const double *d,
                         const double *e, pred_counters *cnt);
 
+/* What the predicates may assume about a whole point set (static.c, proofs/filters.md
+ * sections 8 and 9): the filters' static bounds on the set's extents, and whether the set is a
+ * lattice small enough for the filter's evaluation to be exact (then the bound is 0 and an
+ * undecided filter means an exact zero).  Only valid for points of the set it was made from. */
+#define PRED_O3_LATTICE_E 114501.0  /* largest E with 6 E^3 <= 2^53 */
+#define PRED_IS_LATTICE_E 659.0     /* largest E with 72 E^5 <= 2^53 */
+typedef struct pred_static {
+    double o3_seps, is_seps;   /* static bounds (0 when exact), or PRED_NO_STATIC */
+    int o3_exact, is_exact;    /* the filter's det~ is the exact determinant */
+} pred_static;
+extern const pred_static pred_static_none;
+void pred_static_init(const double *xyz, size_t stride, size_t n, pred_static *ps);
+
+/* orient3d for points of ps's set: filter with its static bound, then the exact stage unless
+ * the lattice makes the filter exact.  _rest: the part after a caller's inline
+ * pred_orient3d_filter(..., ps->o3_seps) was undecided (it does not count the call). */
+int pred_orient3d_st(const double *a, const double *b, const double *c, const double *d,
+                     const pred_static *ps, pred_counters *cnt);
+int pred_orient3d_rest(const double *a, const double *b, const double *c, const double *d,
+                       const pred_static *ps, pred_counters *cnt);
+
+/* The perturbed insphere for points of ps's set after the caller's inline
+ * pred_insphere_filter(..., ps->is_seps) was undecided; counts the call.  Same answer as
+ * pred_insphere_sos. */
+int pred_insphere_sos_rest(const double *a, const double *b, const double *c, const double *d,
+                           const double *e, const pred_static *ps, pred_counters *cnt);
+
 /* Perturbed insphere: equals pred_insphere when that is non-zero; never 0 for five distinct
  * points with orient3d(a,b,c,d) != 0; CGAL's side_of_oriented_sphere(perturb) when
  * orient3d(a,b,c,d) > 0, and antisymmetric in (a,b,c,d) (see sos.c). */
@@ -65,10 +92,11 @@ int pred_incircle_coplanar_sos(const double *a, const double *b, const double *c
 /* Lexicographic (x, then y, then z) comparison: -1, 0, +1.  -0.0 == +0.0. */
 static inline int pred_lex_cmp(const double *p, const double *q)
 {
-    if (p[0] != q[0]) return p[0] < q[0] ? -1 : 1;
-    if (p[1] != q[1]) return p[1] < q[1] ? -1 : 1;
-    if (p[2] != q[2]) return p[2] < q[2] ? -1 : 1;
-    return 0;
+    /* branch-free: on lattices the coordinates tie often and branches mispredict */
+    const int cx = (p[0] > q[0]) - (p[0] < q[0]);
+    const int cy = (p[1] > q[1]) - (p[1] < q[1]);
+    const int cz = (p[2] > q[2]) - (p[2] < q[2]);
+    return cx ? cx : cy ? cy : cz;
 }
 
 /* Run-time check of the floating-point assumptions the filters' proofs rely on (binary64,

@@ -115,35 +115,72 @@ int pred_incircle_coplanar_sos(const double *a, const double *b, const double *c
     return -local;
 }
 
-int pred_insphere_sos(const double *a, const double *b, const double *c, const double *d,
-                      const double *e, pred_counters *cnt)
+/* i1 = index of the lexicographically largest of p[0..4], i2 = of the second largest (the
+ * only two ranks the perturbation ever needs: two steps suffice, see the top of this file). */
+static void lex_top2(const double *const *p, int *i1, int *i2)
 {
-    int s = pred_insphere(a, b, c, d, e, cnt);
-    if (s != 0) return s;
+    const int first = pred_lex_cmp(p[0], p[1]) < 0;
+    int a = first, b = 1 - first;
+    for (int i = 2; i < 5; i++) {  /* selects, not branches (ties mispredict on lattices) */
+        const int over_a = pred_lex_cmp(p[i], p[a]) > 0;
+        const int over_b = pred_lex_cmp(p[i], p[b]) > 0;
+        b = over_a ? a : over_b ? i : b;
+        a = over_a ? i : a;
+    }
+    *i1 = a;
+    *i2 = b;
+}
+
+/* The perturbation of an exactly zero insphere (the file comment), its orient3d evaluated for
+ * points of ps's set. */
+static int insphere_perturbed(const double *a, const double *b, const double *c, const double *d,
+                              const double *e, const pred_static *ps, pred_counters *cnt)
+{
     cnt->sos_calls++;
     const double *p[5] = {a, b, c, d, e};
-    int idx[5];
-    lex_sort(p, 5, idx);
-    for (int i = 4; i > 2; i--) {
-        const int k = idx[i];
+    int top[2];
+    lex_top2(p, &top[0], &top[1]);
+    for (int i = 0; i < 2; i++) {
+        const int k = top[i];
         if (k == 4) {
             /* e's own term: its coefficient is -orient3d(a,b,c,d), i.e. -1 (outside) under
              * CGAL's precondition orient3d > 0; the general form keeps the result
              * antisymmetric in (a,b,c,d) when the tet is negatively oriented. */
-            cnt->sos_depth[4 - i]++;
-            const int o = pred_orient3d(a, b, c, d, cnt);
+            cnt->sos_depth[i]++;
+            const int o = pred_orient3d_st(a, b, c, d, ps, cnt);
             return o != 0 ? -o : -1;
         }
         const double *q[4] = {a, b, c, d};
         q[k] = e;
-        const int o = pred_orient3d(q[0], q[1], q[2], q[3], cnt);
+        const int o = pred_orient3d_st(q[0], q[1], q[2], q[3], ps, cnt);
         if (o != 0) {
-            cnt->sos_depth[4 - i]++;
+            cnt->sos_depth[i]++;
             return o;
         }
     }
     cnt->sos_depth[2]++; /* only when orient3d(a,b,c,d) == 0 (precondition violated) */
     return -1;
+}
+
+int pred_insphere_sos(const double *a, const double *b, const double *c, const double *d,
+                      const double *e, pred_counters *cnt)
+{
+    const int s = pred_insphere(a, b, c, d, e, cnt);
+    if (s != 0) return s;
+    return insphere_perturbed(a, b, c, d, e, &pred_static_none, cnt);
+}
+
+int pred_insphere_sos_rest(const double *a, const double *b, const double *c, const double *d,
+                           const double *e, const pred_static *ps, pred_counters *cnt)
+{
+    cnt->insphere_calls++;
+    if (ps->is_exact) {  /* det~ == 0 is the exact determinant */
+        cnt->insphere_zero++;
+    } else {
+        const int s = pred_insphere_exact(a, b, c, d, e, cnt);
+        if (s != 0) return s;
+    }
+    return insphere_perturbed(a, b, c, d, e, ps, cnt);
 }
 
 int pred_ghost_conflict(const double *a, const double *b, const double *c, const double *e,

@@ -1,0 +1,88 @@
+/* static.c -- what the predicates may assume about a whole point set (pred_static).
+ *
+ * A caller that passes only points of one known set (the kernel: the vertices) gets two things
+ * from pred_static_init, each proved in proofs/filters.md:
+ *  - static bounds (section 8): the filters' eps evaluated on the set's computed extents
+ *    fl(max - min); a filter answers as soon as |det~| exceeds it, before computing maxima;
+ *  - lattice exactness (section 9): when every coordinate is an integer multiple of one power
+ *    of two 2^s and the extents are at most E units of 2^s, every operation of a filter's
+ *    evaluation is exact (all intermediates are integer multiples of 2^(k s), k <= 5, below
+ *    2^53 units, inside the exponent range), so det~ IS the determinant: the static bound is 0
+ *    and a zero is an exact zero, with no exact stage.  orient3d: |intermediates| <= 6 E^3,
+ *    E <= PRED_O3_LATTICE_E; insphere: <= 72 E^5, E <= PRED_IS_LATTICE_E.  This is what makes
+ *    integer grids and lattices (every insphere of a cube is 0) cheap.
+ * The perturbation (sos.c) then runs from the known zero.
+ */
+#include "pred_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+const pred_static pred_static_none = {PRED_NO_STATIC, PRED_NO_STATIC, 0, 0};
+
+/* The exponent of the lowest set bit of x != 0 (x = odd * 2^q). */
+static int low_exponent(double x)
+{
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    const int ef = (int)((u >> 52) & 0x7ff);
+    uint64_t m = u & ((UINT64_C(1) << 52) - 1);
+    if (ef == 0) return -1074 + __builtin_ctzll(m);  /* subnormal: m != 0 */
+    m |= UINT64_C(1) << 52;
+    return ef - 1075 + __builtin_ctzll(m);
+}
+
+void pred_static_init(const double *xyz, size_t stride, size_t n, pred_static *ps)
+{
+    *ps = pred_static_none;
+    if (n == 0) return;
+    double lo[3], hi[3];
+    int s = 2000;  /* the lattice exponent: min over nonzero coordinates */
+    for (int d = 0; d < 3; d++) lo[d] = hi[d] = xyz[d];
+    for (size_t i = 0; i < n; i++)
+        for (int d = 0; d < 3; d++) {
+            const double x = xyz[stride * i + (size_t)d];
+            if (x < lo[d]) lo[d] = x;
+            if (x > hi[d]) hi[d] = x;
+            if (x != 0) {
+                const int q = low_exponent(x);
+                if (q < s) s = q;
+            }
+        }
+    const double X = hi[0] - lo[0], Y = hi[1] - lo[1], Z = hi[2] - lo[2];
+    if (!(X <= PRED_O3_HI && Y <= PRED_O3_HI && Z <= PRED_O3_HI)) return;  /* inf, NaN, huge */
+    ps->o3_seps = pred_orient3d_static_eps(X, Y, Z);
+    ps->is_seps = pred_insphere_static_eps(X, Y, Z);
+    if (s == 2000) s = 0;  /* every coordinate is 0 */
+    /* extents in units of 2^s; a difference of two multiples of 2^s below 2^53 units is exact,
+     * so a computed extent this small is the exact one */
+    const double M = X > Y ? (X > Z ? X : Z) : (Y > Z ? Y : Z);
+    const double units = s >= -1074 && s <= 1023 ? M / ldexp(1.0, s) : 1e300;
+    if (units <= PRED_O3_LATTICE_E && 3 * s >= -1074 && 3 * s + 53 <= 1023) {
+        ps->o3_exact = 1;
+        ps->o3_seps = 0;
+    }
+    if (units <= PRED_IS_LATTICE_E && 5 * s >= -1074 && 5 * s + 53 <= 1023) {
+        ps->is_exact = 1;
+        ps->is_seps = 0;
+    }
+}
+
+int pred_orient3d_st(const double *a, const double *b, const double *c, const double *d,
+                     const pred_static *ps, pred_counters *cnt)
+{
+    cnt->orient_calls++;
+    const int s = pred_orient3d_filter(a, b, c, d, ps->o3_seps);
+    if (s != 0) return s;
+    return pred_orient3d_rest(a, b, c, d, ps, cnt);
+}
+
+int pred_orient3d_rest(const double *a, const double *b, const double *c, const double *d,
+                       const pred_static *ps, pred_counters *cnt)
+{
+    if (ps->o3_exact) {  /* det~ == 0 is the exact determinant */
+        cnt->orient_zero++;
+        return 0;
+    }
+    return pred_orient3d_exact(a, b, c, d, cnt);
+}
