@@ -165,9 +165,14 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     if (opts.progress && s == GTET_OK) opts.progress(opts.progress_user, 1.0);
     double t_inserted = omp_get_wtime();
     size_t slots_peak = m.cap;
-    if (s == GTET_OK) s = km_finalize(&m, &res->tets, &res->neighbors, &res->n_tets, &res->n_hull_facets);
-    if (s == GTET_OK)
-        for (size_t i = 0; i < 4 * res->n_tets; i++) res->tets[i] = order[res->tets[i]];
+    if (s == GTET_OK) s = km_finalize(&m, &res->tets, &res->neighbors, &res->n_tets, &res->n_hull_facets,
+                                      threads);
+    if (s == GTET_OK) {  /* output vertex ids */
+        uint32_t *tv = res->tets;
+        const size_t n4 = 4 * res->n_tets;
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n4 > 262144)
+        for (size_t i = 0; i < n4; i++) tv[i] = order[tv[i]];
+    }
     free(order);
     free(sv);
     add_counters(&res->stats.pred, &cnt0);
