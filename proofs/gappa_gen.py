@@ -268,7 +268,7 @@ def spec(text, fname):
     """(guard constant, filter constant) named in the filter's body."""
     body = function_body(text, fname)
     lo = re.search(r"lo\s*>=\s*(PRED_\w+)", body).group(1)
-    eps = re.search(r"eps\s*=([^;]*);", body).group(1)
+    eps = re.search(r"const double eps\s*=([^;]*);", body).group(1)
     c = re.search(r"(PRED_\w+_C)\b", eps).group(1)
     return lo, c
 
