@@ -14,6 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define DEDUP_AHEAD 16
+
 void kval_error(gtet_error *err, gtet_status status, size_t index, int dimension,
                 const char *fmt, ...)
 {
@@ -81,9 +83,21 @@ gtet_status kval_dedup(const double *xyz, size_t n, double **verts_out, uint32_t
     memset(table, 0xff, cap * sizeof *table);
     size_t nv = 0;
     const size_t mask = cap - 1;
+    /* the table is larger than the caches and a probe is a random access: the slots of the
+     * next DEDUP_AHEAD points are hashed and prefetched ahead (ring[] holds their hashes) */
+    size_t ring[DEDUP_AHEAD];
+    for (size_t i = 0; i < n && i < DEDUP_AHEAD; i++) {
+        ring[i] = (size_t)point_hash(xyz + 3 * i) & mask;
+        __builtin_prefetch(table + ring[i]);
+    }
     for (size_t i = 0; i < n; i++) {
         const double *p = xyz + 3 * i;
-        size_t h = (size_t)point_hash(p) & mask;
+        size_t h = ring[i % DEDUP_AHEAD];
+        if (i + DEDUP_AHEAD < n) {
+            const size_t ha = (size_t)point_hash(xyz + 3 * (i + DEDUP_AHEAD)) & mask;
+            ring[i % DEDUP_AHEAD] = ha;
+            __builtin_prefetch(table + ha);
+        }
         for (;;) {
             uint32_t v = table[h];
             if (v == UINT32_MAX) {
