@@ -190,7 +190,7 @@ static void fill(int kind)
 
 typedef int (*stage_fn)(int t);
 static int f_o_filter(int t) { return pred_orient3d_filter(tup[t][0], tup[t][1], tup[t][2], tup[t][3], PRED_NO_STATIC); }
-static int f_i_filter(int t) { return pred_insphere_filter(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], PRED_NO_STATIC); }
+static int f_i_filter(int t) { return pred_insphere_filter(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], PRED_NO_STATIC, NULL); }
 static int f_o_int(int t) { int s = 0; pred_orient3d_int(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }
 static int f_i_int(int t) { int s = 0; pred_insphere_int(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
 static int f_o_wide(int t) { int s = 0; pred_orient3d_wide(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }

@@ -242,6 +242,52 @@ static void test_ghost_conflict_at_extreme_scales_matches_oracle(void)
     }
 }
 
+/* The lattice path (proofs/filters.md section 9; sos.c orient_from_minors): on a small
+ * lattice the kernel decides a zero insphere from the filter's exact minors instead of calling
+ * orient3d.  For tuples of a 7^3 grid (many exact zeros, every perturbation step taken) it must
+ * answer exactly as the general pred_insphere_sos, in both orientations of (a,b,c,d); and
+ * orient_from_minors' five identities are checked against pred_orient3d on the same tuples. */
+static void test_lattice_perturbation_from_minors_matches_the_general_rule(void)
+{
+    tu_rng r = {71};
+    pred_static ps;  /* the set: the 7^3 grid {0..6}^3 */
+    double box[2][3] = {{0, 0, 0}, {6, 6, 6}};
+    pred_static_init(&box[0][0], 3, 2, &ps);
+    TEST_REQUIRE(ps.is_exact && ps.o3_exact, "a 7^3 grid is not called exact");
+    long zeros = 0, bad = 0;
+    for (int t = 0; t < 200000; t++) {
+        double q[5][3];
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) q[i][j] = (double)tu_below(&r, 7);
+        int distinct = 1;
+        for (int i = 0; i < 5; i++)
+            for (int k = 0; k < i; k++) distinct &= pred_lex_cmp(q[i], q[k]) != 0;
+        gtet_pred_counters k_cnt;
+        memset(&k_cnt, 0, sizeof k_cnt);
+        if (!distinct || pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
+        double mn[4];
+        const int f = pred_insphere_filter(q[0], q[1], q[2], q[3], q[4], ps.is_seps, mn);
+        const int ref = pred_insphere_sos(q[0], q[1], q[2], q[3], q[4], &k_cnt);
+        const int got = f ? f : pred_insphere_sos_rest(q[0], q[1], q[2], q[3], q[4], &ps, mn, &k_cnt);
+        bad += got != ref;
+        if (f == 0) {
+            zeros++;
+            /* the identities behind orient_from_minors */
+            const double *v[4] = {q[0], q[1], q[2], q[3]};
+            const double want[5] = {mn[1], -mn[2], mn[3], -mn[0],
+                                    ((mn[1] - mn[2]) + mn[3]) - mn[0]};
+            for (int k = 0; k < 5; k++) {
+                const double *w[4] = {v[0], v[1], v[2], v[3]};
+                if (k < 4) w[k] = q[4];
+                const int o = pred_orient3d(w[0], w[1], w[2], w[3], &k_cnt);
+                bad += o != (want[k] > 0) - (want[k] < 0);
+            }
+        }
+    }
+    TEST_CHECK(zeros > 1000, "only %ld exactly co-spherical tuples", zeros);
+    TEST_CHECK(bad == 0, "%ld disagreements between the lattice path and the general rule", bad);
+}
+
 int main(void)
 {
     TU_RUN(test_insphere_sos_hand_checked_cube_cases);
@@ -249,6 +295,7 @@ int main(void)
     TU_RUN(test_insphere_sos_on_cospherical_lattice_points_and_small_grid);
     TU_RUN(test_ghost_conflict_is_never_zero_and_consistent_with_coplanar_circle);
     TU_RUN(test_ghost_conflict_at_extreme_scales_matches_oracle);
+    TU_RUN(test_lattice_perturbation_from_minors_matches_the_general_rule);
     printf("sos decisions %llu (depth %llu %llu %llu %llu)\n", (unsigned long long)cnt.sos_calls,
            (unsigned long long)cnt.sos_depth[0], (unsigned long long)cnt.sos_depth[1],
            (unsigned long long)cnt.sos_depth[2], (unsigned long long)cnt.sos_depth[3]);

@@ -79,15 +79,15 @@ static void check_insphere(double (*p)[3])
     memset(&cnt, 0, sizeof cnt);
     si.tuples++;
     si.zero += ref == 0;
-    int f = pred_insphere_filter(a, b, c, d, e, PRED_NO_STATIC);
+    int f = pred_insphere_filter(a, b, c, d, e, PRED_NO_STATIC, NULL);
     if (f) si.filter_decided++;
     int ok = (f == 0 || f == ref);
     double ext[3];
     box_extents(p, 5, ext);
     const double seps = pred_insphere_static_eps(ext[0], ext[1], ext[2]);
-    int fs = pred_insphere_filter(a, b, c, d, e, seps);
+    int fs = pred_insphere_filter(a, b, c, d, e, seps, NULL);
     ok &= fs == 0 || fs == ref;
-    const int f0 = pred_insphere_filter(a, b, c, d, e, 0.0);
+    const int f0 = pred_insphere_filter(a, b, c, d, e, 0.0, NULL);
     si.zero_bound_wrong += f0 != 0 && f0 != ref;
     if (pred_insphere_int(a, b, c, d, e, &s)) si.int_used++, ok &= s == ref;
     if (pred_insphere_wide(a, b, c, d, e, &s)) si.wide_used++, ok &= s == ref;
@@ -333,7 +333,7 @@ static long lattice_mismatches(int insphere, long E, int s, int tuples, uint64_t
         }
         const int ref = insphere ? orc_insphere(p[0], p[1], p[2], p[3], p[4])
                                  : orc_orient3d(p[0], p[1], p[2], p[3]);
-        const int f = insphere ? pred_insphere_filter(p[0], p[1], p[2], p[3], p[4], 0.0)
+        const int f = insphere ? pred_insphere_filter(p[0], p[1], p[2], p[3], p[4], 0.0, NULL)
                                : pred_orient3d_filter(p[0], p[1], p[2], p[3], 0.0);
         bad += f != ref;
     }

@@ -171,7 +171,7 @@ static mpfr_t fe, fb, fr;
 static int measure(int is_insphere, const double *pts, double C, stat *st, const char *fam)
 {
     double o[5];
-    int in = is_insphere ? emp_insphere_filter(pts, pts + 3, pts + 6, pts + 9, pts + 12, PRED_NO_STATIC, o)
+    int in = is_insphere ? emp_insphere_filter(pts, pts + 3, pts + 6, pts + 9, pts + 12, PRED_NO_STATIC, NULL, o)
                          : emp_orient3d_filter(pts, pts + 3, pts + 6, pts + 9, PRED_NO_STATIC, o);
     st->n++;
     if (!in) return 0;

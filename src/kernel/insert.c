@@ -123,12 +123,13 @@ static inline int conflicts(kctx *c, uint32_t t, const double *p)
     const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
     const double *d = km_pt(m, v[3]);
     /* the filter inline (most calls stop here); the full chain counts its own call */
-    int s = pred_insphere_filter(a, b, cc, d, p, m->ps.is_seps);
+    double minors[4];
+    int s = pred_insphere_filter(a, b, cc, d, p, m->ps.is_seps, minors);
     if (s != 0) {
         c->cnt.insphere_calls++;
         return s > 0;
     }
-    return pred_insphere_sos_rest(a, b, cc, d, p, &m->ps, &c->cnt) > 0;
+    return pred_insphere_sos_rest(a, b, cc, d, p, &m->ps, minors, &c->cnt) > 0;
 }
 
 /* orient3d of tet t with its vertex f replaced by p (t finite). */

@@ -147,9 +147,13 @@ static inline int pred_orient3d_filter(const double *a, const double *b, const d
     return (det > eps) - (det < -eps);
 }
 
-/* +1 / -1 when certain, 0 undecided; seps as for orient3d (pred_insphere_static_eps). */
+/* +1 / -1 when certain, 0 undecided; seps as for orient3d (pred_insphere_static_eps).  With
+ * seps == 0 (a lattice: the evaluation is exact, proofs/filters.md section 9) an undecided
+ * answer is an exact zero, and `minors`, when not NULL, receives the exact 3x3 minors
+ * abc, bcd, cda, dab of the translated points, which the perturbation reuses (sos.c). */
 static inline int pred_insphere_filter(const double *a, const double *b, const double *c,
-                                       const double *d, const double *e, double seps)
+                                       const double *d, const double *e, double seps,
+                                       double *minors)
 {
     const double ax = a[0] - e[0], ay = a[1] - e[1], az = a[2] - e[2];
     const double bx = b[0] - e[0], by = b[1] - e[1], bz = b[2] - e[2];
@@ -172,7 +176,15 @@ static inline int pred_insphere_filter(const double *a, const double *b, const d
     const double det = (cw * dab - dw * abc) + (aw * bcd - bw * cda);
     if (det > seps) return 1;
     if (det < -seps) return -1;
-    if (seps == 0) return 0;
+    if (seps == 0) {
+        if (minors) {
+            minors[0] = abc;
+            minors[1] = bcd;
+            minors[2] = cda;
+            minors[3] = dab;
+        }
+        return 0;
+    }
     const double X = pred_max_(pred_max_(pred_fabs_(ax), pred_fabs_(bx)),
                                pred_max_(pred_fabs_(cx), pred_fabs_(dx)));
     const double Y = pred_max_(pred_max_(pred_fabs_(ay), pred_fabs_(by)),

@@ -24,7 +24,7 @@ int pred_insphere(const double *a, const double *b, const double *c, const doubl
                   const double *e, pred_counters *cnt)
 {
     cnt->insphere_calls++;
-    int s = pred_insphere_filter(a, b, c, d, e, PRED_NO_STATIC);
+    int s = pred_insphere_filter(a, b, c, d, e, PRED_NO_STATIC, NULL);
     if (s != 0) return s;
     return pred_insphere_exact(a, b, c, d, e, cnt);
 }

@@ -38,7 +38,7 @@ int pred_insphere(const double *a, const double *b, const double *c, const doubl
 
 /* For a caller that inlines the filter (filter.h) itself, e.g. the kernel's cavity test:
  *     cnt->insphere_calls++;
- *     int s = pred_insphere_filter(a, b, c, d, e, PRED_NO_STATIC);
+ *     int s = pred_insphere_filter(a, b, c, d, e, PRED_NO_STATIC, NULL);
  *     if (s == 0) s = pred_insphere_exact(a, b, c, d, e, cnt);
  * is exactly pred_insphere (same for orient3d).  The _exact functions count *_exact and
  * the stage / zero counters, not *_calls. */
@@ -69,10 +69,12 @@ int pred_orient3d_rest(const double *a, const double *b, const double *c, const 
                        const pred_static *ps, pred_counters *cnt);
 
 /* The perturbed insphere for points of ps's set after the caller's inline
- * pred_insphere_filter(..., ps->is_seps) was undecided; counts the call.  Same answer as
+ * pred_insphere_filter(..., ps->is_seps, minors) was undecided; counts the call.  minors: what
+ * that filter reported (used only when ps->is_exact; may be NULL otherwise).  Same answer as
  * pred_insphere_sos. */
 int pred_insphere_sos_rest(const double *a, const double *b, const double *c, const double *d,
-                           const double *e, const pred_static *ps, pred_counters *cnt);
+                           const double *e, const pred_static *ps, const double *minors,
+                           pred_counters *cnt);
 
 /* Perturbed insphere: equals pred_insphere when that is non-zero; never 0 for five distinct
  * points with orient3d(a,b,c,d) != 0; CGAL's side_of_oriented_sphere(perturb) when

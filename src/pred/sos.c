@@ -131,10 +131,31 @@ static void lex_top2(const double *const *p, int *i1, int *i2)
     *i2 = b;
 }
 
+/* orient3d of (a,b,c,d) with point k replaced by e, from the exact minors of the translated
+ * points A = a-e, ..., D = d-e (abc = det[A;B;C], bcd = det[B;C;D], cda = det[C;D;A],
+ * dab = det[D;A;B]): orient3d(e,b,c,d) = bcd, orient3d(a,e,c,d) = -cda, orient3d(a,b,e,d) =
+ * dab, orient3d(a,b,c,e) = -abc; and orient3d(a,b,c,d) = bcd - cda + dab - abc (expansion of
+ * the 4x4 determinant with a column of ones).  Tested against pred_orient3d
+ * (tests/test_pred_perturbation.c). */
+static int orient_from_minors(const double *mn, int k)
+{
+    double v;
+    switch (k) {
+    case 0: v = mn[1]; break;
+    case 1: v = -mn[2]; break;
+    case 2: v = mn[3]; break;
+    case 3: v = -mn[0]; break;
+    default: v = ((mn[1] - mn[2]) + mn[3]) - mn[0]; break;  /* exact: each <= 6 E^3 units */
+    }
+    return (v > 0) - (v < 0);
+}
+
 /* The perturbation of an exactly zero insphere (the file comment), its orient3d evaluated for
- * points of ps's set. */
+ * points of ps's set, or read off the exact minors mn (lattice, pred_insphere_filter) when
+ * not NULL. */
 static int insphere_perturbed(const double *a, const double *b, const double *c, const double *d,
-                              const double *e, const pred_static *ps, pred_counters *cnt)
+                              const double *e, const pred_static *ps, const double *mn,
+                              pred_counters *cnt)
 {
     cnt->sos_calls++;
     const double *p[5] = {a, b, c, d, e};
@@ -147,12 +168,25 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
              * CGAL's precondition orient3d > 0; the general form keeps the result
              * antisymmetric in (a,b,c,d) when the tet is negatively oriented. */
             cnt->sos_depth[i]++;
-            const int o = pred_orient3d_st(a, b, c, d, ps, cnt);
+            int o;
+            if (mn) {
+                cnt->orient_calls++;
+                o = orient_from_minors(mn, 4);
+            } else {
+                o = pred_orient3d_st(a, b, c, d, ps, cnt);
+            }
             return o != 0 ? -o : -1;
         }
-        const double *q[4] = {a, b, c, d};
-        q[k] = e;
-        const int o = pred_orient3d_st(q[0], q[1], q[2], q[3], ps, cnt);
+        int o;
+        if (mn) {
+            cnt->orient_calls++;
+            o = orient_from_minors(mn, k);
+            if (o == 0) cnt->orient_zero++;
+        } else {
+            const double *q[4] = {a, b, c, d};
+            q[k] = e;
+            o = pred_orient3d_st(q[0], q[1], q[2], q[3], ps, cnt);
+        }
         if (o != 0) {
             cnt->sos_depth[i]++;
             return o;
@@ -167,11 +201,12 @@ int pred_insphere_sos(const double *a, const double *b, const double *c, const d
 {
     const int s = pred_insphere(a, b, c, d, e, cnt);
     if (s != 0) return s;
-    return insphere_perturbed(a, b, c, d, e, &pred_static_none, cnt);
+    return insphere_perturbed(a, b, c, d, e, &pred_static_none, NULL, cnt);
 }
 
 int pred_insphere_sos_rest(const double *a, const double *b, const double *c, const double *d,
-                           const double *e, const pred_static *ps, pred_counters *cnt)
+                           const double *e, const pred_static *ps, const double *minors,
+                           pred_counters *cnt)
 {
     cnt->insphere_calls++;
     if (ps->is_exact) {  /* det~ == 0 is the exact determinant */
@@ -180,7 +215,7 @@ int pred_insphere_sos_rest(const double *a, const double *b, const double *c, co
         const int s = pred_insphere_exact(a, b, c, d, e, cnt);
         if (s != 0) return s;
     }
-    return insphere_perturbed(a, b, c, d, e, ps, cnt);
+    return insphere_perturbed(a, b, c, d, e, ps, ps->is_exact ? minors : NULL, cnt);
 }
 
 int pred_ghost_conflict(const double *a, const double *b, const double *c, const double *e,
