@@ -273,21 +273,27 @@ static inline uint32_t take_slot(kctx *c)
  * boundary is a closed, consistently oriented surface).  Scatter: the facet opposite slot t0
  * (which holds the point and the edge t1 -> t2) is stored at table[t1][t2], in cavity-local
  * ids; gather: its neighbour is table[t2][t1].  Every directed edge of the boundary is written
- * exactly once before the gather reads its reverse, so the table never needs clearing.
+ * exactly once before the gather reads its reverse, so the table never needs clearing (each
+ * entry is stamped with the cavity's number, and the gather checks the stamps).
  * Local ids: 0 for the vertex at infinity, 1.. for the finite boundary vertices in order of
  * first sight (vloc, 0xff outside a cavity, reset at the end).  A closed boundary with nb
  * triangles has nb/2 + 2 vertices (Euler), so nb <= KM_FAST_FACETS fits the 64 ids; the id
  * count is checked anyway (a non-closed boundary would be an internal error, not an overflow).
- * Returns 1 when done, 0 when the hash path must do it (nothing linked). */
+ * Returns 1 when done, 0 when the hash path must do it (nothing linked), -1 when a stamp is
+ * stale (an internal error). */
 static const uint8_t TRI[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
 #define KM_FAST_FACETS (2 * (KM_LOC_MAX - 3))
 
 static int adjacency_fast(kctx *c, const uint32_t *slots, size_t nb)
 {
     if (nb > KM_FAST_FACETS) return 0;
+    /* entries carry this cavity's number in their high half: an entry the gather reads must
+     * have been written by this cavity (a stale one means the boundary was not a closed,
+     * consistently oriented surface: an internal error, never a silently wrong link) */
+    const uint64_t gen = (uint64_t)(++c->cavity_gen) << 32;
     kmesh *m = c->m;
     uint8_t *vloc = m->vloc;
-    uint32_t *tab = c->table;
+    uint64_t *tab = c->table;
     uint32_t *tn = m->tn;
     const kbound *b = c->bnd;
     uint32_t seen[KM_LOC_MAX + 3];
@@ -313,21 +319,25 @@ static int adjacency_fast(kctx *c, const uint32_t *slots, size_t nb)
             return 0;
         }
         const unsigned l0 = loc[3 * i], l1 = loc[3 * i + 1], l2 = loc[3 * i + 2];
-        const uint32_t h = 4 * slots[i];
+        const uint64_t h = gen | (4 * slots[i]);
         tab[l1 * KM_LOC_MAX + l2] = h + T[0];
         tab[l2 * KM_LOC_MAX + l0] = h + T[1];
         tab[l0 * KM_LOC_MAX + l1] = h + T[2];
     }
+    uint64_t stale = 0;
     for (size_t i = 0; i < nb; i++) {
         const uint8_t *T = TRI[b[i].f];
         const unsigned l0 = loc[3 * i], l1 = loc[3 * i + 1], l2 = loc[3 * i + 2];
         const uint32_t h = 4 * slots[i];
-        tn[h + T[0]] = tab[l2 * KM_LOC_MAX + l1];
-        tn[h + T[1]] = tab[l0 * KM_LOC_MAX + l2];
-        tn[h + T[2]] = tab[l1 * KM_LOC_MAX + l0];
+        const uint64_t e0 = tab[l2 * KM_LOC_MAX + l1], e1 = tab[l0 * KM_LOC_MAX + l2];
+        const uint64_t e2 = tab[l1 * KM_LOC_MAX + l0];
+        stale |= (e0 ^ gen) >> 32 | (e1 ^ gen) >> 32 | (e2 ^ gen) >> 32;
+        tn[h + T[0]] = (uint32_t)e0;
+        tn[h + T[1]] = (uint32_t)e1;
+        tn[h + T[2]] = (uint32_t)e2;
     }
     for (unsigned l = 1; l < next; l++) vloc[seen[l]] = 0xff;
-    return 1;
+    return stale ? -1 : 1;
 }
 
 /* Fallback for large cavities: open addressing on the (min, max) vertex pair. */
@@ -488,7 +498,9 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
         m->tn[4 * (size_t)n + b->f] = b->outer;
         m->tn[b->outer] = 4 * n + b->f;
     }
-    if (!adjacency_fast(c, slots, nb)) {
+    const int fast = adjacency_fast(c, slots, nb);
+    if (fast < 0) return GTET_ERR_INTERNAL;
+    if (fast == 0) {
         s = adjacency_hash(c, slots, nb);
         if (s != GTET_OK) return s;
     }

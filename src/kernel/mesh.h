@@ -65,7 +65,9 @@ typedef struct kctx {
     uint32_t last;      /* a live tet near the last insertion: the next walk starts here */
     uint64_t rng;
     uint64_t walk_steps, walk_fallbacks, tets_created, big_cavities;
-    uint32_t table[KM_LOC_MAX * KM_LOC_MAX]; /* directed edge -> facet handle (adjacency_fast) */
+    uint64_t table[KM_LOC_MAX * KM_LOC_MAX]; /* directed edge -> cavity number << 32 | facet
+                                              * handle (adjacency_fast) */
+    uint32_t cavity_gen;   /* cavities linked by adjacency_fast (the stamp; wraps after 2^32) */
     uint64_t *htab;     /* fallback edge table for cavities with > 63 boundary vertices */
     size_t htab_cap;
     /* parallel passes (parallel.c): vertex colours, this thread's colour, a block of fresh
