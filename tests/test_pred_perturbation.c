@@ -19,6 +19,7 @@
 #include "pred_gen.h"
 #include "testutil.h"
 
+#include <math.h>
 #include <string.h>
 
 static gtet_pred_counters cnt;
@@ -288,6 +289,68 @@ static void test_lattice_perturbation_from_minors_matches_the_general_rule(void)
     TEST_CHECK(bad == 0, "%ld disagreements between the lattice path and the general rule", bad);
 }
 
+/* The lattice path ranks points by one exact key, (p-e)_x 2^22 + (p-e)_y 2^11 + (p-e)_z
+ * (sos.c lex_top2_lattice), instead of coordinate-wise lexicographic compares.  That is right
+ * only while every coordinate difference stays below 2^10 units, so test it where it is
+ * tightest: point sets of exactly E = 659 units per axis (the largest the lattice path
+ * accepts), at scales 2^-214 .. 2^194 and offsets on and off the origin; the 5 points are
+ * corners of boxes inside that cube (any 5 corners of a box are co-spherical, so the insphere
+ * is an exact zero and the ranking decides), with one side of 1 unit and another of 658 or 659
+ * units (a tie in x broken by y and z terms of the largest size, and the reverse).  Every
+ * decision must equal the general pred_insphere_sos. */
+static void test_lattice_ranking_at_the_largest_extent_matches_the_general_rule(void)
+{
+    tu_rng r = {659};
+    const int scales[] = {-214, -1, 0, 3, 194};
+    long zeros = 0, bad = 0;
+    for (size_t si = 0; si < sizeof scales / sizeof scales[0]; si++) {
+        const double u = ldexp(1.0, scales[si]);
+        for (int oi = 0; oi < 2; oi++) {
+            const double off = oi ? -1000003.0 : 0.0;  /* units; odd, so s is the scale */
+            double box[2][3];
+            for (int j = 0; j < 3; j++) {
+                box[0][j] = off * u;
+                box[1][j] = (off + 659) * u;
+            }
+            pred_static ps;
+            pred_static_init(&box[0][0], 3, 2, &ps);
+            TEST_REQUIRE(ps.is_exact, "E = 659 at scale 2^%d is not called exact", scales[si]);
+            for (int t = 0; t < 20000; t++) {
+                double lo[3], side[3];
+                const double pick[4] = {1, 658, 659, 0};
+                for (int j = 0; j < 3; j++) {
+                    side[j] = pick[tu_below(&r, 3)];
+                    if (tu_below(&r, 4) == 0) side[j] = 1 + (double)tu_below(&r, 659);
+                    lo[j] = (double)tu_below(&r, (uint64_t)(660 - side[j]));
+                }
+                int corner[5], used = 0;
+                for (int i = 0; i < 5; i++) {
+                    int c;
+                    do c = (int)tu_below(&r, 8); while (used & (1 << c));
+                    used |= 1 << c;
+                    corner[i] = c;
+                }
+                double q[5][3];
+                for (int i = 0; i < 5; i++)
+                    for (int j = 0; j < 3; j++)
+                        q[i][j] = (off + lo[j] + ((corner[i] >> j) & 1 ? side[j] : 0)) * u;
+                gtet_pred_counters k_cnt;
+                memset(&k_cnt, 0, sizeof k_cnt);
+                if (pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
+                double mn[4];
+                const int f = pred_insphere_filter(q[0], q[1], q[2], q[3], q[4], ps.is_seps, mn);
+                const int ref = pred_insphere_sos(q[0], q[1], q[2], q[3], q[4], &k_cnt);
+                const int got =
+                    f ? f : pred_insphere_sos_rest(q[0], q[1], q[2], q[3], q[4], &ps, mn, &k_cnt);
+                zeros += f == 0;
+                bad += got != ref;
+            }
+        }
+    }
+    TEST_CHECK(zeros > 100000, "only %ld exactly co-spherical tuples", zeros);
+    TEST_CHECK(bad == 0, "%ld disagreements between the lattice ranking and the general rule", bad);
+}
+
 int main(void)
 {
     TU_RUN(test_insphere_sos_hand_checked_cube_cases);
@@ -296,6 +359,7 @@ int main(void)
     TU_RUN(test_ghost_conflict_is_never_zero_and_consistent_with_coplanar_circle);
     TU_RUN(test_ghost_conflict_at_extreme_scales_matches_oracle);
     TU_RUN(test_lattice_perturbation_from_minors_matches_the_general_rule);
+    TU_RUN(test_lattice_ranking_at_the_largest_extent_matches_the_general_rule);
     printf("sos decisions %llu (depth %llu %llu %llu %llu)\n", (unsigned long long)cnt.sos_calls,
            (unsigned long long)cnt.sos_depth[0], (unsigned long long)cnt.sos_depth[1],
            (unsigned long long)cnt.sos_depth[2], (unsigned long long)cnt.sos_depth[3]);

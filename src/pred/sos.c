@@ -131,6 +131,32 @@ static void lex_top2(const double *const *p, int *i1, int *i2)
     *i2 = b;
 }
 
+/* The same two ranks on a lattice (ps->is_exact: coordinates multiples of 2^s, every extent
+ * at most 659 units): the lexicographic order of p is the order of the exact number
+ * key(p) - key(e) = (p-e)_x 2^22 + (p-e)_y 2^11 + (p-e)_z, because every coordinate difference
+ * of the set is at most 659 < 2^10 units, so the y and z terms (< 2^21 + 2^10 units) never
+ * outweigh one unit of the x term, nor the z term one unit of the y term; every operation is
+ * exact (multiples of 2^s below 2^33 units; proofs/filters.md section 9).  e's own key is 0.
+ * One double compare per pair instead of three coordinate compares. */
+static void lex_top2_lattice(const double *const *p, int *i1, int *i2)
+{
+    const double *e = p[4];
+    double k[5];
+    for (int i = 0; i < 4; i++)
+        k[i] = ((p[i][0] - e[0]) * 0x1p22 + (p[i][1] - e[1]) * 0x1p11) + (p[i][2] - e[2]);
+    k[4] = 0.0;
+    const int first = k[0] < k[1];
+    int a = first, b = 1 - first;
+    for (int i = 2; i < 5; i++) {
+        const int over_a = k[i] > k[a];
+        const int over_b = k[i] > k[b];
+        b = over_a ? a : over_b ? i : b;
+        a = over_a ? i : a;
+    }
+    *i1 = a;
+    *i2 = b;
+}
+
 /* orient3d of (a,b,c,d) with point k replaced by e, from the exact minors of the translated
  * points A = a-e, ..., D = d-e (abc = det[A;B;C], bcd = det[B;C;D], cda = det[C;D;A],
  * dab = det[D;A;B]): orient3d(e,b,c,d) = bcd, orient3d(a,e,c,d) = -cda, orient3d(a,b,e,d) =
@@ -160,7 +186,10 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
     cnt->sos_calls++;
     const double *p[5] = {a, b, c, d, e};
     int top[2];
-    lex_top2(p, &top[0], &top[1]);
+    if (mn)
+        lex_top2_lattice(p, &top[0], &top[1]);
+    else
+        lex_top2(p, &top[0], &top[1]);
     for (int i = 0; i < 2; i++) {
         const int k = top[i];
         if (k == 4) {
