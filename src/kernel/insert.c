@@ -169,8 +169,12 @@ static gtet_status walk(kctx *c, const double *p, uint32_t *found)
     uint32_t t = c->last;
     uint32_t entry = UINT32_MAX;   /* handle 4t+f of the facet we came in through */
     if (km_is_ghost(m, t)) {
-        entry = m->tn[4 * (size_t)t + 3];
-        t = entry >> 2;
+        /* start from the ghost's finite neighbour and test all four of its facets: p may be
+         * beyond the hull facet too (then the walk steps back into this ghost, entered
+         * through its finite facet with p strictly beyond, which conflicts).  Skipping that
+         * facet as if it had been crossed located a tet p is not in when p is outside the
+         * hull (sphere points in a parallel pass: "internal error"; serially a linear scan). */
+        t = m->tn[4 * (size_t)t + 3] >> 2;
     }
     /* m->nt is bumped by other threads' atomic captures (ensure_room) during a parallel
      * pass: read it atomically too (a plain read would be a data race; ThreadSanitizer). */
