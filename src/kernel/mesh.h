@@ -11,7 +11,7 @@
  * facet ordered so that orient3d(a,b,c,x) < 0 for the points x of the hull: the vertex at
  * infinity is on the positive side, and every ghost is "positively oriented" too, which is
  * what lets a cavity replace any vertex by the new point without re-orienting (star-shaped
- * cavity, lifted picture).  The 4*u+j packing limits a mesh to 2^30 tet slots.
+ * cavity, lifted picture).  The 4*u+j packing limits a mesh to 2^30 - 1 tet slots.
  * Nothing here is global: a kmesh is shared by the threads of one call, a kctx belongs to one
  * thread (cavity buffers, counters, adjacency table).
  */
@@ -27,7 +27,7 @@
 #define KM_GHOST UINT32_MAX
 #define KM_DEAD 0x80000000u
 #define KM_MAX_VERTICES (KM_DEAD - 1)
-#define KM_MAX_SLOTS (UINT32_C(1) << 30)
+#define KM_MAX_SLOTS ((UINT32_C(1) << 30) - 1) /* so 4u+j < UINT32_MAX: that value is never a handle */
 #define KM_LOC_MAX 64   /* cavity-local vertex ids for the fast adjacency table */
 #define KM_SLOT_BLOCK 4096 /* fresh slots a thread claims at once in a parallel pass */
 

@@ -112,7 +112,7 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
             free(order);
             gtet_mesh_free(&res);
             kval_error(err, GTET_ERR_TOO_LARGE, SIZE_MAX, -1,
-                       "%zu distinct points exceed the 2^30 tet-slot limit", nv);
+                       "%zu distinct points exceed the 2^30 - 1 tet-slot limit", nv);
             return GTET_ERR_TOO_LARGE;
         }
         hint = KM_MAX_SLOTS;
