@@ -327,6 +327,76 @@ static void test_points_sharing_one_moore_key_give_the_same_tets_in_parallel(voi
     free(p);
 }
 
+/* Duplicates on every thread count (src/kernel/validate.c: a serial pass below 2^17 points,
+ * a parallel table of first occurrences above): 3000 distinct points of a small lattice with
+ * zero coordinates, each copied about 60 times in random order, some zeros written as -0.0
+ * (equal to +0.0, so duplicates).  The vertices (bit for bit: the first occurrence's sign of
+ * zero) and the input map must be the same for 1..8 threads; vertex ids must follow the order
+ * of first occurrence, and every point must map to a vertex that compares equal to it. */
+static void test_duplicates_are_mapped_the_same_way_for_every_thread_count(void)
+{
+    const size_t nd = 3000, n = 180000;  /* n/2 >= 2^16: the parallel dedup runs on 2 threads */
+    tu_rng r = {31337};
+    double *d = malloc(3 * nd * sizeof *d), *p = malloc(3 * n * sizeof *p);
+    TEST_REQUIRE(d && p, "out of memory");
+    for (size_t i = 0; i < 3 * nd; i++) d[i] = (double)tu_below(&r, 40) - 20;
+    for (size_t i = 0; i < n; i++) {
+        const size_t k = i < nd ? i * 7919 % nd : tu_below(&r, nd);  /* every one at least once */
+        for (int j = 0; j < 3; j++) {
+            double x = d[3 * k + (size_t)j];
+            if (x == 0 && tu_below(&r, 2)) x = -0.0;
+            p[3 * i + (size_t)j] = x;
+        }
+    }
+    double *v1 = NULL;
+    uint32_t *m1 = NULL;
+    size_t nv1 = 0;
+    for (size_t k = 0; k < NTHREADS; k++) {
+        gtet_options o;
+        gtet_options_init(&o);
+        o.threads = THREADS[k];
+        gtet_mesh *m = NULL;
+        const gtet_status st = gtet_triangulate(p, n, &o, &m);
+        TEST_CHECK(st == GTET_OK, "%d threads: %s", THREADS[k], gtet_status_str(st));
+        if (st != GTET_OK) continue;
+        const size_t nv = gtet_mesh_num_vertices(m);
+        const double *v = gtet_mesh_vertices(m);
+        const uint32_t *map = gtet_mesh_input_map(m);
+        if (!v1) {
+            /* the reference: properties, then every other count must equal it */
+            uint32_t next = 0;
+            long bad = 0;
+            for (size_t i = 0; i < n; i++) {
+                const double *q = v + 3 * (size_t)map[i];
+                bad += map[i] > next || !(q[0] == p[3 * i] && q[1] == p[3 * i + 1] &&
+                                         q[2] == p[3 * i + 2]);
+                if (map[i] == next) {
+                    bad += memcmp(q, p + 3 * i, 3 * sizeof *q) != 0;  /* first occurrence */
+                    next++;
+                }
+            }
+            TEST_CHECK(bad == 0 && next == nv, "%ld bad map entries, %u ids for %zu vertices",
+                       bad, next, nv);
+            TEST_CHECK(nv <= nd && nv > nd / 2, "%zu distinct of %zu", nv, nd);
+            nv1 = nv;
+            v1 = malloc(3 * nv * sizeof *v1);
+            m1 = malloc(n * sizeof *m1);
+            TEST_REQUIRE(v1 && m1, "out of memory");
+            memcpy(v1, v, 3 * nv * sizeof *v1);
+            memcpy(m1, map, n * sizeof *m1);
+        } else {
+            TEST_CHECK(nv == nv1 && memcmp(v, v1, 3 * nv * sizeof *v) == 0 &&
+                           memcmp(map, m1, n * sizeof *map) == 0,
+                       "%d threads: other vertices or map than 1 thread", THREADS[k]);
+        }
+        gtet_mesh_free(&m);
+    }
+    free(v1);
+    free(m1);
+    free(d);
+    free(p);
+}
+
 int main(void)
 {
     TU_RUN(test_random_points_give_the_same_tets_for_1_2_3_4_8_threads_and_shuffled);
@@ -334,5 +404,6 @@ int main(void)
     TU_RUN(test_cospherical_integer_points_give_the_same_tets_in_parallel);
     TU_RUN(test_points_sharing_one_moore_key_give_the_same_tets_in_parallel);
     TU_RUN(test_points_on_a_sphere_all_on_the_hull_give_the_same_tets_in_parallel);
+    TU_RUN(test_duplicates_are_mapped_the_same_way_for_every_thread_count);
     return tu_finish();
 }

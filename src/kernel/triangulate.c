@@ -70,7 +70,8 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     gtet_mesh *res = calloc(1, sizeof *res);
     if (!res) return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the result");
     res->n_points = n;
-    s = kval_dedup(xyz, n, &res->vertices, &res->input_map, &res->n_vertices, err);
+    int threads = opts.threads ? opts.threads : omp_get_max_threads();
+    s = kval_dedup(xyz, n, threads, &res->vertices, &res->input_map, &res->n_vertices, err);
     if (s != GTET_OK) {
         gtet_mesh_free(&res);
         return s;
@@ -80,7 +81,6 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     memset(&cnt0, 0, sizeof cnt0);
     double t_validated = omp_get_wtime();
 
-    int threads = opts.threads ? opts.threads : omp_get_max_threads();
     uint32_t *order = malloc((nv ? nv : 1) * sizeof *order);
     if (!order) {
         gtet_mesh_free(&res);

@@ -16,11 +16,12 @@ void kval_error(gtet_error *err, gtet_status status, size_t index, int dimension
 /* Reject NaN and infinite coordinates (GTET_ERR_NONFINITE naming the first bad index). */
 gtet_status kval_finite(const double *xyz, size_t n, gtet_error *err);
 
-/* Exact duplicate detection (-0.0 == +0.0) in expected linear time.  On success *verts holds
- * the 3*(*nv) coordinates of the distinct points in order of first occurrence (signed zeros
- * as given by the first occurrence), *map the vertex id of every input point. */
-gtet_status kval_dedup(const double *xyz, size_t n, double **verts, uint32_t **map, size_t *nv,
-                       gtet_error *err);
+/* Exact duplicate detection (-0.0 == +0.0) in expected linear time, on up to `threads`
+ * threads (the same result for any count).  On success *verts holds the 3*(*nv) coordinates
+ * of the distinct points in order of first occurrence (signed zeros as given by the first
+ * occurrence), *map the vertex id of every input point.  n < 2^31. */
+gtet_status kval_dedup(const double *xyz, size_t n, int threads, double **verts, uint32_t **map,
+                       size_t *nv, gtet_error *err);
 
 /* Find four affinely independent vertices, scanning ids in the given order: the first vertex,
  * the first one different from it, the first not collinear with those, the first not coplanar
