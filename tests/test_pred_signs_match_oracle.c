@@ -369,6 +369,54 @@ static void test_lattice_filters_are_exact_within_the_proved_extents(void)
                "non-lattice doubles called exact");
 }
 
+/* Axis-aligned planes (src/pred/orient3d.c, insphere.c: the axis-plane rules; exact_int.c:
+ * the coplanar predicates on the wide integer form): three (orient3d) or four (insphere) of the
+ * points share one coordinate value exactly, the others are anywhere, the off-plane offset
+ * down to 2^-1074 (a plane and a subnormal apex: too many binades for the integer forms of
+ * the whole tuple).  In-plane coordinates are random doubles, or small integers times 2^-20
+ * (co-circular and collinear cases: exact zeros), so every sign and both zero cases occur.
+ * Every position of the off-plane point and every axis.  The ghost rule and the coplanar
+ * orientation on the in-plane points are checked too (orient2d / lifted2d on non-integer
+ * doubles used to be GMP). */
+static void test_axis_aligned_planes_match_oracle(void)
+{
+    reset();
+    tu_rng r = {2027};
+    const double planes[] = {0.0, 0.75, -3.0e5, 0x1p-1000};
+    const double offs[] = {1.0, -0.5, 0x1p-1074, -0x1p-1060, 1e-300, 3.0e5};
+    long bad2 = 0, n2 = 0;
+    for (int t = 0; t < 24000; t++) {
+        const int j = t % 3, off = (t / 3) % 5;
+        const double P = planes[(t / 15) % 4];
+        const int integer = (t / 60) % 2;
+        double q[5][3];
+        for (int i = 0; i < 5; i++)
+            for (int k = 0; k < 3; k++)
+                q[i][k] = integer ? (double)((int)tu_below(&r, 5) - 2) * 0x1p-20 : tu_uniform(&r);
+        for (int i = 0; i < 5; i++) q[i][j] = P;
+        q[off][j] = P + offs[tu_below(&r, 6)];
+        if (q[off][j] == P) q[off][j] = P + 1;  /* the offset was absorbed by rounding */
+        check_both(q);
+        /* the four in-plane points: coplanar orientation, ghost rule */
+        const double *in[4];
+        for (int i = 0, k = 0; i < 5; i++)
+            if (i != off) in[k++] = q[i];
+        gtet_pred_counters cnt;
+        memset(&cnt, 0, sizeof cnt);
+        int ok = pred_coplanar_orientation(in[0], in[1], in[2], &cnt) ==
+                 orc_coplanar_orientation(in[0], in[1], in[2]);
+        if (orc_coplanar_orientation(in[0], in[1], in[2]) != 0)
+            ok &= pred_ghost_conflict(in[0], in[1], in[2], in[3], &cnt) ==
+                  orc_ghost_conflict(in[0], in[1], in[2], in[3]);
+        n2++;
+        if (!ok && bad2++ < 5) TEST_CHECK(0, "coplanar predicate mismatch on plane %d, tuple %d", j, t);
+    }
+    report("axis-aligned planes");
+    TEST_CHECK(so.bad == 0 && si.bad == 0, "%ld orient3d / %ld insphere mismatches", so.bad, si.bad);
+    TEST_CHECK(bad2 == 0, "%ld of %ld coplanar mismatches", bad2, n2);
+    TEST_CHECK(so.zero > 1000 && si.zero > 1000, "too few exact zeros (%ld, %ld)", so.zero, si.zero);
+}
+
 int main(void)
 {
     TU_RUN(test_random_unit_doubles_match_oracle);
@@ -379,5 +427,6 @@ int main(void)
     TU_RUN(test_points_rounded_onto_a_sphere_match_oracle);
     TU_RUN(test_extreme_magnitudes_match_oracle);
     TU_RUN(test_lattice_filters_are_exact_within_the_proved_extents);
+    TU_RUN(test_axis_aligned_planes_match_oracle);
     return tu_finish();
 }

@@ -314,3 +314,52 @@ int pred_orient3d_wide(const double *a, const double *b, const double *c, const 
         *sign = (r.w[0] | r.w[1] | r.w[2]) != 0;
     return 1;
 }
+
+/* ---- the coplanar predicates on the wide integer form -------------------------------------
+ * (sos.c: orient2d in a coordinate plane and the lifted 2D determinant of the coplanar
+ * in-circle.)  Same integer form as above (common power of two removed, every integer below
+ * 2^60): orient2d: differences < 2^61, products < 2^122, their difference < 2^123 (__int128).
+ * lifted2d: differences < 2^61, 2x2 minors < 2^123 (__int128), lifts (three squares) < 3*2^122
+ * < 2^124 (unsigned __int128), lift * minor < 2^247 and the sum of three < 2^249 (320-bit
+ * two's complement, mul_lift_det3).  Every operation is exact in those widths.  Before these,
+ * points with real (non-integer) coordinates went to GMP: plane + apex inputs spent most of
+ * their time there (NOTES.md 2026-11-23). */
+int pred_orient2d_wide(const double *a, const double *b, const double *c, int u, int w,
+                       int *sign)
+{
+    const double *pts[3] = {a, b, c};
+    int64_t q[3][3];
+    if (!wide_form(pts, 3, q)) return 0;
+    const i128 det = (i128)(q[1][u] - q[0][u]) * (q[2][w] - q[0][w]) -
+                     (i128)(q[1][w] - q[0][w]) * (q[2][u] - q[0][u]);
+    *sign = sign128(det);
+    return 1;
+}
+
+int pred_lifted2d_wide(const double *a, const double *b, const double *c, const double *e,
+                       int u, int w, int *sign)
+{
+    const double *pts[4] = {a, b, c, e};
+    int64_t q[4][3], p[3][3];
+    if (!wide_form(pts, 4, q)) return 0;
+    for (int k = 0; k < 3; k++)
+        for (int j = 0; j < 3; j++) p[k][j] = q[k][j] - q[3][j];
+    i320 r = {{0, 0, 0, 0, 0}};
+    for (int k = 0; k < 3; k++) {
+        const int64_t *x = p[(k + 1) % 3], *y = p[(k + 2) % 3];
+        const i128 minor = (i128)x[u] * y[w] - (i128)y[u] * x[w];
+        const u128 lift = (u128)((i128)p[k][0] * p[k][0]) + (u128)((i128)p[k][1] * p[k][1]) +
+                          (u128)((i128)p[k][2] * p[k][2]);
+        i192 m; /* minor sign-extended to 192 bits */
+        m.w[0] = (uint64_t)(u128)minor;
+        m.w[1] = (uint64_t)((u128)minor >> 64);
+        m.w[2] = minor < 0 ? UINT64_MAX : 0;
+        const i320 t = mul_lift_det3(lift, m, 1);
+        add_limbs(r.w, t.w, 5);
+    }
+    if (r.w[4] >> 63)
+        *sign = -1;
+    else
+        *sign = (r.w[0] | r.w[1] | r.w[2] | r.w[3] | r.w[4]) != 0;
+    return 1;
+}

@@ -5,12 +5,47 @@
 #include "filter.h"
 #include "pred_internal.h"
 
+/* e and three of a,b,c,d on one axis-aligned plane x_j = const, the fourth (m) off it.  The
+ * predicate's sign is that of -det M, M the 4x4 matrix of the rows p - e (columns x, y, z,
+ * |p - e|^2): the filter's (cw dab - dw abc) + (aw bcd - bw cda) is its expansion along the
+ * lift column with the opposite sign.  Column j of M has one non-zero entry, h = m_j - e_j in
+ * row m, so
+ *     -det M = -(-1)^(m+j) h det3,
+ * det3 being the rows p - e of the other three (in order), columns u < w (the other two axes)
+ * and the lift: pred_lifted2d_exact.  Its bits span only the plane's coordinates, so the wide
+ * integer form takes it where the whole tuple spans too many binades for it (a plane and a
+ * subnormal apex went to GMP for every insphere).  Returns 0 when the case does not apply. */
+static int insphere_axis_plane(const double *const *p, const double *e, int *sign)
+{
+    for (int j = 0; j < 3; j++) {
+        int off = -1, n_off = 0;
+        for (int k = 0; k < 4; k++)
+            if (p[k][j] != e[j]) {
+                off = k;
+                n_off++;
+            }
+        if (n_off != 1) continue;
+        const int u = j == 0 ? 1 : 0, w = j == 2 ? 1 : 2;
+        const double *r[3];
+        for (int k = 0, i = 0; k < 4; k++)
+            if (k != off) r[i++] = p[k];
+        const int h = p[off][j] > e[j] ? 1 : -1;
+        const int parity = (off + j) & 1 ? 1 : -1;  /* -(-1)^(m+j) */
+        *sign = parity * h * pred_lifted2d_exact(r[0], r[1], r[2], e, u, w);
+        return 1;
+    }
+    return 0;
+}
+
 int pred_insphere_exact(const double *a, const double *b, const double *c, const double *d,
                         const double *e, pred_counters *cnt)
 {
     int s;
     cnt->insphere_exact++;
-    if (pred_insphere_int(a, b, c, d, e, &s) || pred_insphere_wide(a, b, c, d, e, &s)) {
+    const double *p[4] = {a, b, c, d};
+    if (insphere_axis_plane(p, e, &s)) {
+        cnt->insphere_int++;
+    } else if (pred_insphere_int(a, b, c, d, e, &s) || pred_insphere_wide(a, b, c, d, e, &s)) {
         cnt->insphere_int++;
     } else if (!pred_insphere_exp(a, b, c, d, e, &s)) {
         cnt->insphere_gmp++;

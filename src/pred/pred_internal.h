@@ -44,6 +44,16 @@ int pred_orient2d_int(const double *a, const double *b, const double *c, int u, 
 /* sign of det[(u,w,|.|^2) of a-e; b-e; c-e] (see sos.c) */
 int pred_lifted2d_int(const double *a, const double *b, const double *c, const double *e,
                       int u, int w, int *sign);
+/* the same two on the wide integer form (any tuple whose bits span <= 60 binades) */
+int pred_orient2d_wide(const double *a, const double *b, const double *c, int u, int w,
+                       int *sign);
+int pred_lifted2d_wide(const double *a, const double *b, const double *c, const double *e,
+                       int u, int w, int *sign);
+/* (b-a)_u (c-a)_w - (b-a)_w (c-a)_u exactly, on any finite doubles */
+int pred_orient2d_exact(const double *a, const double *b, const double *c, int u, int w);
+/* its exact sign on any finite doubles: small integers, wide form, then GMP */
+int pred_lifted2d_exact(const double *a, const double *b, const double *c, const double *e,
+                        int u, int w);
 
 int pred_orient3d_exp(const double *a, const double *b, const double *c, const double *d,
                       int *sign);

@@ -47,21 +47,30 @@ static void lex_sort(const double *const *p, int n, int *idx)
     }
 }
 
-static int orient2d_exact(const double *a, const double *b, const double *c, int u, int w)
+int pred_orient2d_exact(const double *a, const double *b, const double *c, int u, int w)
 {
     int s;
-    if (pred_orient2d_int(a, b, c, u, w, &s)) return s;
+    if (pred_orient2d_int(a, b, c, u, w, &s) || pred_orient2d_wide(a, b, c, u, w, &s)) return s;
     return pred_orient2d_gmp(a, b, c, u, w);
+}
+
+int pred_lifted2d_exact(const double *a, const double *b, const double *c, const double *e,
+                        int u, int w)
+{
+    int d;
+    if (pred_lifted2d_int(a, b, c, e, u, w, &d) || pred_lifted2d_wide(a, b, c, e, u, w, &d))
+        return d;
+    return pred_lifted2d_gmp(a, b, c, e, u, w);
 }
 
 /* CGAL's 3-argument coplanar_orientation: first non-zero projection among xy, yz, xz. */
 static int coplanar_orientation(const double *a, const double *b, const double *c)
 {
-    int o = orient2d_exact(a, b, c, 0, 1);
+    int o = pred_orient2d_exact(a, b, c, 0, 1);
     if (o != 0) return o;
-    o = orient2d_exact(a, b, c, 1, 2);
+    o = pred_orient2d_exact(a, b, c, 1, 2);
     if (o != 0) return o;
-    return orient2d_exact(a, b, c, 0, 2);
+    return pred_orient2d_exact(a, b, c, 0, 2);
 }
 
 int pred_coplanar_orientation(const double *a, const double *b, const double *c,
@@ -78,11 +87,9 @@ static int incircle_coplanar_exact(const double *a, const double *b, const doubl
     static const int axes[3][2] = {{0, 1}, {1, 2}, {0, 2}};
     for (int k = 0; k < 3; k++) {
         int u = axes[k][0], w = axes[k][1];
-        int o2 = orient2d_exact(a, b, c, u, w);
+        int o2 = pred_orient2d_exact(a, b, c, u, w);
         if (o2 == 0) continue;
-        int d;
-        if (!pred_lifted2d_int(a, b, c, e, u, w, &d)) d = pred_lifted2d_gmp(a, b, c, e, u, w);
-        return d * o2;
+        return pred_lifted2d_exact(a, b, c, e, u, w) * o2;
     }
     return 0; /* a, b, c collinear */
 }
