@@ -42,6 +42,12 @@
 
 #define KEY_BITS 21           /* per axis: 63-bit Moore keys */
 #define MIN_PER_THREAD 2048   /* fewer points per thread: fewer threads */
+/* A later pass re-keys every vertex in the mesh on its new box and its points are the hard
+ * ones (near the last pass's slice boundaries, long walks): with fewer pending points than
+ * nmesh / SERIAL_TAIL it is one serial pass instead (4M uniform, -t 2: the round's last
+ * 99k-point pass with two more behind it took 0.33 s; medians of 5, insert 3.87 -> 3.79 s;
+ * NOTES.md 2026-11-23). */
+#define SERIAL_TAIL 32
 #define KEY_MASK ((UINT64_C(1) << (3 * KEY_BITS)) - 1)
 
 static uint64_t mix64(uint64_t z)
@@ -299,6 +305,7 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
     }
     while (np > 0) {
         while (nth > 1 && np < (size_t)nth * MIN_PER_THREAD) nth /= 2;
+        if (pass > 0 && np < nmesh / SERIAL_TAIL) nth = 1;
         rs->passes++;
         if (nth > rs->threads) rs->threads = nth;  /* the most threads any pass used */
         if (nth <= 1) {
