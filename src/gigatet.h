@@ -173,6 +173,9 @@ typedef struct gtet_round_stats {
     uint64_t deferred;    /* attempts rolled back on a colour conflict */
     int threads;          /* the most threads a pass of the round used */
     int passes;           /* partition passes the round needed */
+    double alpha_first;   /* success rate alpha = inserted / tried of the round's first pass
+                             (paper section 4.2; it picks the next pass's policy); 1 when the
+                             round was inserted serially */
 } gtet_round_stats;
 
 typedef struct gtet_stats {

@@ -460,6 +460,13 @@ static void test_rounds_insert_every_point_once_and_one_thread_defers_nothing(vo
                 TEST_CHECK(rs->deferred == 0 && rs->passes == 1 && rs->tried == rs->points,
                            "one thread, round %d: %llu deferred in %d passes", r,
                            (unsigned long long)rs->deferred, rs->passes);
+            /* alpha of the first pass: 1 exactly when it inserted everything; otherwise at
+             * least what the round's deferrals (all passes) leave */
+            const double a = rs->alpha_first, lo = 1.0 - (double)rs->deferred / (double)rs->points;
+            TEST_CHECK(rs->passes == 1 ? a == 1.0 : (a < 1.0 && a >= lo - 1e-12),
+                       "%d threads, round %d: alpha of the first pass %g (%d passes, %llu deferred "
+                       "of %llu)", th, r, a, rs->passes, (unsigned long long)rs->deferred,
+                       (unsigned long long)rs->points);
         }
         TEST_CHECK(sum + 4 == gtet_mesh_num_vertices(m), "%d threads: %llu inserted + 4 != %zu",
                    th, (unsigned long long)sum, gtet_mesh_num_vertices(m));

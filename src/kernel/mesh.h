@@ -86,7 +86,7 @@ static inline void km_kill(kmesh *m, size_t t) { m->tv[4 * t] |= KM_DEAD; }
 static inline void km_revive(kmesh *m, size_t t) { m->tv[4 * t] &= ~KM_DEAD; }
 static inline const double *km_pt(const kmesh *m, uint32_t v) { return m->v + 3 * (size_t)v; }
 
-gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint);
+gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint, int threads);
 void km_free(kmesh *m);
 gtet_status km_reserve(kmesh *m, size_t slots);
 

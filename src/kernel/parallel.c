@@ -17,13 +17,15 @@
  * Adaptive, as in paper §4.2, with alpha = inserted / tried in the pass and n threads:
  *   alpha <= 1/n       -> the rest of the round is inserted sequentially,
  *   1/n < alpha <= 1/6 -> half the threads (reduction),
- *   otherwise          -> same threads, new partitions on an enlarged, shifted box.
+ *   otherwise          -> same threads, new partitions: the round's first retry cuts the
+ *                         same curve half a slice further along the loop (no re-keying), later
+ *                         ones use an enlarged, shifted box.
  * Termination (proofs/termination.md): a parallel pass that goes on inserts more than a 1/n
  * fraction of the pending points, so their number shrinks geometrically, and the sequential
  * insertion (no colours) always succeeds.
  *
  * Obligations of proofs/parallel.md, where they are met: O1 colours and slice bounds computed
- * before the region, slices never split equal keys (pass_parallel); O2 ownership checked before
+ * before the region, slices never split equal keys (kpar_slices, pass_parallel); O2 ownership checked before
  * a tet is marked dead, O8 no scan fallback, O10 rollback (km_insert / walk / rollback in
  * insert.c); O3 one thread: no colours (insert_serial); O4 start tets found read-only before the
  * region's barrier (find_start); O5 slots from free lists and atomic block claims that never pass
@@ -41,14 +43,14 @@
 #include "../sort/sort.h"
 
 #define KEY_BITS 21           /* per axis: 63-bit Moore keys */
+_Static_assert(KPAR_KEY_MASK == (UINT64_C(1) << (3 * KEY_BITS)) - 1, "key mask");
 #define MIN_PER_THREAD 2048   /* fewer points per thread: fewer threads */
-/* A later pass re-keys every vertex in the mesh on its new box and its points are the hard
- * ones (near the last pass's slice boundaries, long walks): with fewer pending points than
- * nmesh / SERIAL_TAIL it is one serial pass instead (4M uniform, -t 2: the round's last
- * 99k-point pass with two more behind it took 0.33 s; medians of 5, insert 3.87 -> 3.79 s;
- * NOTES.md 2026-11-23). */
+/* A pass after the first retry re-keys every vertex in the mesh on its new box, and its points
+ * are the hard ones (near two earlier partitions' boundaries, long walks): with fewer pending
+ * points than nmesh / SERIAL_TAIL it is one serial pass instead (4M uniform, -t 2: a 99k-point
+ * pass on a new box with two more behind it took 0.33 s; NOTES.md 2026-11-23).  The first retry
+ * (same keys, cuts rotated) is cheap and stays parallel. */
 #define SERIAL_TAIL 32
-#define KEY_MASK ((UINT64_C(1) << (3 * KEY_BITS)) - 1)
 
 static uint64_t mix64(uint64_t z)
 {
@@ -89,12 +91,21 @@ gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads)
     double *b = P->bbox;
     b[0] = b[1] = b[2] = 0;
     b[3] = b[4] = b[5] = 0;
-    for (size_t i = 0; i < m->nv; i++)
-        for (int d = 0; d < 3; d++) {
-            double x = m->v[3 * i + (size_t)d];
-            if (i == 0 || x < b[d]) b[d] = x;
-            if (i == 0 || x > b[3 + d]) b[3 + d] = x;
-        }
+    const double *v = m->v;
+    if (m->nv == 0) return GTET_OK;
+    double lo0 = v[0], lo1 = v[1], lo2 = v[2], hi0 = v[0], hi1 = v[1], hi2 = v[2];
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && m->nv > 65536) \
+    reduction(min : lo0, lo1, lo2) reduction(max : hi0, hi1, hi2)
+    for (size_t i = 0; i < m->nv; i++) {
+        const double *q = v + 3 * i;
+        lo0 = q[0] < lo0 ? q[0] : lo0;
+        lo1 = q[1] < lo1 ? q[1] : lo1;
+        lo2 = q[2] < lo2 ? q[2] : lo2;
+        hi0 = q[0] > hi0 ? q[0] : hi0;
+        hi1 = q[1] > hi1 ? q[1] : hi1;
+        hi2 = q[2] > hi2 ? q[2] : hi2;
+    }
+    b[0] = lo0, b[1] = lo1, b[2] = lo2, b[3] = hi0, b[4] = hi1, b[5] = hi2;
     return GTET_OK;
 }
 
@@ -164,8 +175,65 @@ static int find_start(kctx *c, int nthreads)
  * (x itself when x == y). */
 static uint64_t key_mid(uint64_t x, uint64_t y)
 {
-    const uint64_t d = (y - x) & KEY_MASK;
-    return (x + (d + 1) / 2) & KEY_MASK;
+    const uint64_t d = (y - x) & KPAR_KEY_MASK;
+    return (x + (d + 1) / 2) & KPAR_KEY_MASK;
+}
+
+/* Slices and colour ranges of a pass (O1).  pk[0..np) sorted, pts alongside.
+ * The first retry of a round (rotate) keeps the tight box's keys -- no re-keying of the mesh --
+ * and moves every cut by half a slice along the loop: pk and pts become the cyclic order
+ * starting half a slice in (never between equal keys).  The deferred points lie near the last
+ * pass's region boundaries; the new regions are unions of halves of old ones, and on the
+ * looping curve with two threads the new boundary is the other symmetry plane of the loop,
+ * which crosses the old one only along a line (4M uniform, -t 2: 96% of the 99k deferred
+ * points then go in parallel; NOTES.md 2026-11-24).
+ * Slices of (nearly) equal counts, each cut moved forward past equal keys.  Colour boundaries:
+ * halfway along the curve between the last point of the previous slice and the first of this
+ * one (cyclically), strictly after the former, so that every point's colour is its own slice's.
+ * rel[k] is slice k's boundary measured from slice 0's (the curve is a loop); a vertex's colour
+ * is the largest k with rel[k] <= its key so measured (kpar_colour_of).  An empty slice (equal
+ * keys moved its points to the previous one) takes the next non-empty slice's boundary, or one
+ * past every key when none follows, so that it never wins.  Ranges are measured from the first
+ * non-empty slice's boundary (slice 0 is empty when np < nth: the kernel never cuts so few
+ * points, but until 2026-11-24 that case coloured them 0; test_parallel_slices). */
+void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, uint64_t *tk,
+                 uint32_t *ti, size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0)
+{
+    if (rotate) {
+        size_t off = np / (2 * (size_t)nth);
+        while (off > 0 && off < np && pk[off] == pk[off - 1]) off++;
+        if (off > 0 && off < np) {
+            memcpy(tk, pk, off * sizeof *tk);
+            memcpy(ti, pts, off * sizeof *ti);
+            memmove(pk, pk + off, (np - off) * sizeof *pk);
+            memmove(pts, pts + off, (np - off) * sizeof *pts);
+            memcpy(pk + (np - off), tk, off * sizeof *pk);
+            memcpy(pts + (np - off), ti, off * sizeof *pts);
+        }
+    }
+    size_t prev = 0;
+    for (int k = 0; k < nth; k++) {
+        size_t b = prev, e = (k == nth - 1) ? np : np / (size_t)nth * (size_t)(k + 1);
+        if (e < b) e = b;
+        while (e < np && e > 0 && pk[e] == pk[e - 1]) e++;
+        begin[k] = b;
+        end[k] = e;
+        prev = e;
+    }
+    uint64_t b0 = 0;
+    for (int k = nth - 1; k >= 0; k--) {
+        if (begin[k] >= end[k]) {
+            rel[k] = k == nth - 1 ? KPAR_KEY_MASK + 1 : rel[k + 1];
+            continue;
+        }
+        const size_t before = begin[k] ? begin[k] - 1 : np - 1;
+        rel[k] = key_mid(pk[before], pk[begin[k]]);  /* absolute for now */
+        b0 = rel[k];  /* ends as the first non-empty slice's boundary (measured from it, the
+                       * empty slices before it get 0 and never win against it) */
+    }
+    for (int k = 0; k < nth; k++)
+        if (rel[k] <= KPAR_KEY_MASK) rel[k] = (rel[k] - b0) & KPAR_KEY_MASK;
+    *bound0 = b0;
 }
 
 /* One parallel pass over pts[0..np) with `nth` threads; the mesh holds (or will hold, at the
@@ -175,10 +243,11 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
                                  unsigned pass, size_t *left, int *out_of_room)
 {
     kmesh *m = P->m;
-    /* keys: the tight box's (every vertex, computed once) in a round's first pass; later passes
-     * re-key the vertices in the mesh on an enlarged, shifted box (paper section 4.2) */
+    /* keys: the tight box's (every vertex, computed once) in a round's first pass and its
+     * first retry (cut half a slice further along the loop: kpar_slices); later passes re-key
+     * the vertices in the mesh on an enlarged, shifted box (paper section 4.2) */
     const uint64_t *keys;
-    if (pass > 0) {
+    if (pass > 1) {
         double box[6];
         pass_box(P->bbox, pass, box);
         sort_moore_keys(m->v, 3, nmesh, box, KEY_BITS, P->skeys, nth);
@@ -192,44 +261,13 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
     }
     for (size_t i = 0; i < np; i++) P->pk[i] = keys[pts[i]];
     sort_radix_pairs(P->pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
-    /* slices of (nearly) equal counts, moved forward past equal keys */
     size_t begin[256], end[256];
-    size_t prev = 0;
-    for (int k = 0; k < nth; k++) {
-        size_t b = prev, e = (k == nth - 1) ? np : np / (size_t)nth * (size_t)(k + 1);
-        if (e < b) e = b;
-        while (e < np && e > 0 && P->pk[e] == P->pk[e - 1]) e++;
-        begin[k] = b;
-        end[k] = e;
-        prev = e;
-    }
-    /* colour boundaries: halfway along the curve between the last point of the previous
-     * slice and the first of this one (cyclically), strictly after the former, so that every
-     * point's colour is its own slice's (O1).  rel[k] is slice k's boundary measured from
-     * slice 0's (the curve is a loop); a vertex's colour is the largest k with rel[k] <= its
-     * key so measured.  An empty slice (equal keys moved its points to the previous one) takes
-     * the next non-empty slice's boundary, or one past every key when none follows, so that it
-     * never wins. */
-    uint64_t rel[256];
-    uint64_t bound0 = 0;
-    for (int k = nth - 1; k >= 0; k--) {
-        if (begin[k] >= end[k]) {
-            rel[k] = k == nth - 1 ? KEY_MASK + 1 : rel[k + 1];
-            continue;
-        }
-        const size_t before = begin[k] ? begin[k] - 1 : np - 1;
-        rel[k] = key_mid(P->pk[before], P->pk[begin[k]]);  /* absolute for now */
-        if (k == 0) bound0 = rel[0];
-    }
-    for (int k = 0; k < nth; k++)
-        if (rel[k] <= KEY_MASK) rel[k] = (rel[k] - bound0) & KEY_MASK;
+    uint64_t rel[256], bound0;
+    kpar_slices(P->pk, pts, np, nth, pass == 1, P->tk, P->ti, begin, end, rel, &bound0);
     uint8_t *col = P->colour;
 #pragma omp parallel for num_threads(nth) schedule(static)
     for (size_t v = 0; v < nmesh; v++) {
-        const uint64_t key = (keys[v] - bound0) & KEY_MASK;
-        int k = nth - 1;
-        while (k > 0 && key < rel[k]) k--;
-        col[v] = (uint8_t)k;
+        col[v] = (uint8_t)kpar_colour_of(keys[v], rel, bound0, nth);
     }
 
     int status = GTET_OK;  /* the first error of any thread (a gtet_status) */
@@ -305,10 +343,11 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
     }
     while (np > 0) {
         while (nth > 1 && np < (size_t)nth * MIN_PER_THREAD) nth /= 2;
-        if (pass > 0 && np < nmesh / SERIAL_TAIL) nth = 1;
+        if (pass > 1 && np < nmesh / SERIAL_TAIL) nth = 1;
         rs->passes++;
         if (nth > rs->threads) rs->threads = nth;  /* the most threads any pass used */
         if (nth <= 1) {
+            if (pass == 0) rs->alpha_first = 1.0;
             rs->tried += np;
             rs->inserted += np;
             return insert_serial(P, pts, np);
@@ -328,6 +367,7 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
         rs->inserted += inserted;
         rs->deferred += left;
         double alpha = (double)inserted / (double)np;
+        if (pass == 0) rs->alpha_first = alpha;
         np = left;
         pass++;
         if (out_of_room && inserted == 0 && m->cap >= KM_MAX_SLOTS) return GTET_ERR_TOO_LARGE;

@@ -23,6 +23,20 @@ typedef struct kpar {
     size_t done, total;
 } kpar;
 
+#define KPAR_KEY_MASK ((UINT64_C(1) << 63) - 1)  /* 63-bit Moore keys, 21 bits per axis */
+
+/* The slices of a pass and the colour ranges of the vertices (parallel.c); exposed for the
+ * tests of obligation O1: every point of slice k has colour k. */
+void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, uint64_t *tk,
+                 uint32_t *ti, size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0);
+static inline int kpar_colour_of(uint64_t key, const uint64_t rel[], uint64_t bound0, int nth)
+{
+    const uint64_t k = (key - bound0) & KPAR_KEY_MASK;
+    int c = nth - 1;
+    while (c > 0 && k < rel[c]) c--;
+    return c;
+}
+
 gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads);
 void kpar_free(kpar *P);
 

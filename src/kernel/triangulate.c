@@ -129,9 +129,11 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
         gtet_mesh_free(&res);
         return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the sorted vertices");
     }
-    for (size_t i = 0; i < nv; i++) memcpy(sv + 3 * i, res->vertices + 3 * (size_t)order[i], 3 * sizeof *sv);
+    const double *rv = res->vertices;
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nv > 65536)
+    for (size_t i = 0; i < nv; i++) memcpy(sv + 3 * i, rv + 3 * (size_t)order[i], 3 * sizeof *sv);
     kmesh m;
-    s = km_init(&m, sv, nv, hint);
+    s = km_init(&m, sv, nv, hint, threads);
     if (threads > 255) threads = 255;
     kctx *ctx = aligned_alloc(_Alignof(kctx), (size_t)threads * sizeof *ctx);
     if (ctx) memset(ctx, 0, (size_t)threads * sizeof *ctx);

@@ -59,6 +59,9 @@ typedef struct pred_static {
 } pred_static;
 extern const pred_static pred_static_none;
 void pred_static_init(const double *xyz, size_t stride, size_t n, pred_static *ps);
+/* The same on `threads` threads (OpenMP; the scan is a reduction, the result is the same). */
+void pred_static_init_mt(const double *xyz, size_t stride, size_t n, int threads,
+                         pred_static *ps);
 
 /* orient3d for points of ps's set: filter with its static bound, then the exact stage unless
  * the lattice makes the filter exact.  _rest: the part after a caller's inline

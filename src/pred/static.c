@@ -34,21 +34,34 @@ static int low_exponent(double x)
 
 void pred_static_init(const double *xyz, size_t stride, size_t n, pred_static *ps)
 {
+    pred_static_init_mt(xyz, stride, n, 1, ps);
+}
+
+void pred_static_init_mt(const double *xyz, size_t stride, size_t n, int threads,
+                         pred_static *ps)
+{
     *ps = pred_static_none;
     if (n == 0) return;
-    double lo[3], hi[3];
+    double lo0 = xyz[0], lo1 = xyz[1], lo2 = xyz[2], hi0 = xyz[0], hi1 = xyz[1], hi2 = xyz[2];
     int s = 2000;  /* the lattice exponent: min over nonzero coordinates */
-    for (int d = 0; d < 3; d++) lo[d] = hi[d] = xyz[d];
-    for (size_t i = 0; i < n; i++)
-        for (int d = 0; d < 3; d++) {
-            const double x = xyz[stride * i + (size_t)d];
-            if (x < lo[d]) lo[d] = x;
-            if (x > hi[d]) hi[d] = x;
-            if (x != 0) {
-                const int q = low_exponent(x);
-                if (q < s) s = q;
+    /* NaN never reaches here (validate rejects it); min/max are exact, order-free reductions */
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n > 65536) \
+    reduction(min : lo0, lo1, lo2, s) reduction(max : hi0, hi1, hi2)
+    for (size_t i = 0; i < n; i++) {
+        const double *q = xyz + stride * i;
+        lo0 = q[0] < lo0 ? q[0] : lo0;
+        lo1 = q[1] < lo1 ? q[1] : lo1;
+        lo2 = q[2] < lo2 ? q[2] : lo2;
+        hi0 = q[0] > hi0 ? q[0] : hi0;
+        hi1 = q[1] > hi1 ? q[1] : hi1;
+        hi2 = q[2] > hi2 ? q[2] : hi2;
+        for (int d = 0; d < 3; d++)
+            if (q[d] != 0) {
+                const int e = low_exponent(q[d]);
+                s = e < s ? e : s;
             }
-        }
+    }
+    const double lo[3] = {lo0, lo1, lo2}, hi[3] = {hi0, hi1, hi2};
     const double X = hi[0] - lo[0], Y = hi[1] - lo[1], Z = hi[2] - lo[2];
     if (!(X <= PRED_O3_HI && Y <= PRED_O3_HI && Z <= PRED_O3_HI)) return;  /* inf, NaN, huge */
     ps->o3_seps = pred_orient3d_static_eps(X, Y, Z);

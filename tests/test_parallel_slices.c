@@ -1,0 +1,154 @@
+/* test_parallel_slices.c -- obligation O1 of proofs/parallel.md for the cuts of a parallel pass
+ * (src/kernel/parallel.c kpar_slices / kpar_colour_of): the slices are consecutive, cover every
+ * pending point once, never split equal keys, and the colour a key gets from the ranges is the
+ * index of the slice that holds it -- for a round's first pass and for its first retry, whose
+ * cuts are rotated half a slice along the looping curve.
+ *
+ * Specification: for pending keys sorted ascending (pts alongside), after kpar_slices with
+ * T threads (rotated or not): the slices [begin[k], end[k]) are consecutive from 0 to np; pts
+ * is a permutation of the input and pk[i] is still the key of pts[i]; for every i in slice k,
+ * kpar_colour_of(pk[i]) == k; two points with equal keys are in the same slice; with rotate the
+ * first slice starts half a slice in (at or after the first key change past np / (2T)).
+ * A colour mismatch means a thread inserts a point of another colour: a data race (C4).
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel/parallel.h"
+#include "testutil.h"
+
+static uint64_t rng(uint64_t *s)
+{
+    *s += 0x9e3779b97f4a7c15ULL;
+    uint64_t z = *s;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* np sorted keys drawn from `distinct` values spread over the 63-bit range (distinct small:
+ * long runs of equal keys, some longer than a slice); pts[i] = i. */
+static void make_keys(uint64_t *pk, uint32_t *pts, size_t np, uint64_t distinct, uint64_t *seed)
+{
+    uint64_t *vals = malloc(distinct * sizeof *vals);
+    for (uint64_t d = 0; d < distinct; d++) vals[d] = rng(seed) & KPAR_KEY_MASK;
+    if (distinct > 1 && rng(seed) % 4 == 0) vals[0] = 0, vals[1] = KPAR_KEY_MASK;  /* both ends */
+    for (size_t i = 0; i < np; i++) {
+        /* skewed choice: a few values carry most points */
+        uint64_t r = rng(seed) % distinct;
+        if (rng(seed) % 3 == 0) r = r % (distinct / 4 + 1);
+        pk[i] = vals[r];
+    }
+    qsort(pk, np, sizeof *pk, cmp_u64);
+    for (size_t i = 0; i < np; i++) pts[i] = (uint32_t)i;
+    free(vals);
+}
+
+static int check_case(size_t np, int nth, int rotate, uint64_t distinct, uint64_t seed0)
+{
+    uint64_t seed = seed0;
+    uint64_t *pk = malloc(np * sizeof *pk), *orig = malloc(np * sizeof *orig);
+    uint64_t *tk = malloc(np * sizeof *tk);
+    uint32_t *pts = malloc(np * sizeof *pts), *ti = malloc(np * sizeof *ti);
+    unsigned char *seen = calloc(np, 1);
+    make_keys(pk, pts, np, distinct, &seed);
+    memcpy(orig, pk, np * sizeof *pk);
+    size_t begin[256], end[256];
+    uint64_t rel[256], bound0;
+    kpar_slices(pk, pts, np, nth, rotate, tk, ti, begin, end, rel, &bound0);
+    int bad = 0;
+#define FAIL(...) do { if (!bad) TEST_CHECK(0, __VA_ARGS__); bad = 1; } while (0)
+    size_t at = 0;
+    for (int k = 0; k < nth; k++) {
+        if (begin[k] != at || end[k] < begin[k]) FAIL("np %zu T %d rot %d: slice %d is [%zu,%zu), expected to start at %zu",
+                                                      np, nth, rotate, k, begin[k], end[k], at);
+        at = end[k];
+    }
+    if (at != np) FAIL("np %zu T %d rot %d: slices end at %zu", np, nth, rotate, at);
+    for (size_t i = 0; i < np && !bad; i++) {
+        if (pts[i] >= np || seen[pts[i]]) FAIL("pts is not a permutation (index %zu)", i);
+        else seen[pts[i]] = 1;
+        if (!bad && orig[pts[i]] != pk[i]) FAIL("pk[%zu] is not the key of pts[%zu]", i, i);
+    }
+    for (int k = 0; k < nth && !bad; k++)
+        for (size_t i = begin[k]; i < end[k]; i++) {
+            const int c = kpar_colour_of(pk[i], rel, bound0, nth);
+            if (c != k) {
+                FAIL("np %zu T %d rot %d distinct %llu: point %zu of slice %d has colour %d",
+                     np, nth, rotate, (unsigned long long)distinct, i, k, c);
+                break;
+            }
+        }
+    /* equal keys in one slice: with every slice's points coloured right (above), two equal keys
+     * in different slices would get different colours from one key -- impossible; check the
+     * cuts directly as well */
+    for (int k = 1; k < nth && !bad; k++)
+        if (begin[k] > 0 && begin[k] < np && begin[k] < end[k] && pk[begin[k]] == pk[begin[k] - 1])
+            FAIL("np %zu T %d rot %d: the cut before slice %d splits equal keys", np, nth, rotate, k);
+    if (rotate && !bad && np > 0) {
+        size_t off = np / (2 * (size_t)nth);
+        while (off > 0 && off < np && orig[off] == orig[off - 1]) off++;
+        if (off > 0 && off < np && pk[0] != orig[off])
+            FAIL("np %zu T %d: the rotated slices do not start half a slice in", np, nth);
+    }
+#undef FAIL
+    free(pk);
+    free(orig);
+    free(tk);
+    free(pts);
+    free(ti);
+    free(seen);
+    return !bad;
+}
+
+static void test_every_point_of_a_slice_has_its_colour_with_and_without_rotation(void)
+{
+    static const size_t sizes[] = {1, 2, 3, 7, 64, 1000, 4097, 30000};
+    static const int threads[] = {2, 3, 4, 8, 16, 255};
+    static const uint64_t distinct[] = {1, 2, 3, 5, 40, 1000, 1000000};
+    uint64_t seed = 1;
+    int cases = 0, ok = 0;
+    for (size_t a = 0; a < sizeof sizes / sizeof *sizes; a++)
+        for (size_t b = 0; b < sizeof threads / sizeof *threads; b++)
+            for (size_t d = 0; d < sizeof distinct / sizeof *distinct; d++)
+                for (int rot = 0; rot < 2; rot++)
+                    for (int rep = 0; rep < 3; rep++) {
+                        cases++;
+                        ok += check_case(sizes[a], threads[b], rot, distinct[d], seed++);
+                    }
+    TEST_CHECK(ok == cases, "%d of %d cases failed", cases - ok, cases);
+}
+
+/* The rotation moves the cuts: with two threads and distinct keys, the rotated first slice
+ * starts at index np/4 of the sorted keys, so the two partitions differ (a retry on the same
+ * cuts would meet the same conflicts). */
+static void test_the_first_retry_cuts_elsewhere(void)
+{
+    const size_t np = 1000;
+    uint64_t pk[1000], tk[1000], sorted[1000];
+    uint32_t pts[1000], ti[1000];
+    for (size_t i = 0; i < np; i++) pk[i] = sorted[i] = (uint64_t)i * 1000003u, pts[i] = (uint32_t)i;
+    size_t begin[2], end[2];
+    uint64_t rel[2], bound0;
+    kpar_slices(pk, pts, np, 2, 1, tk, ti, begin, end, rel, &bound0);
+    TEST_CHECK(pk[0] == sorted[250] && pts[0] == 250, "rotated start %llu (point %u), expected point 250",
+               (unsigned long long)pk[0], pts[0]);
+    TEST_CHECK(begin[1] == 500 && pts[500] == 750, "second slice starts at %zu with point %u", begin[1], pts[500]);
+    TEST_CHECK(kpar_colour_of(sorted[0], rel, bound0, 2) == 1 &&
+               kpar_colour_of(sorted[300], rel, bound0, 2) == 0 &&
+               kpar_colour_of(sorted[800], rel, bound0, 2) == 1,
+               "colours of the unrotated halves' points are not the rotated slices'");
+}
+
+int main(void)
+{
+    TU_RUN(test_every_point_of_a_slice_has_its_colour_with_and_without_rotation);
+    TU_RUN(test_the_first_retry_cuts_elsewhere);
+    return tu_finish();
+}
