@@ -365,6 +365,26 @@ static void test_nan_and_inf_name_the_input_index(void)
     TEST_CHECK(gtet_triangulate(NULL, 5, &o, &m) == GTET_ERR_ARGUMENT, "NULL points accepted");
     TEST_CHECK(gtet_triangulate(p, 5, &o, NULL) == GTET_ERR_ARGUMENT, "NULL out accepted");
     free(p);
+    /* many points, several threads (the scan is split): still the first bad point, and the
+     * coordinate it names */
+    const size_t nb = 300000;
+    p = uniform(nb, 5);
+    p[3 * 290001 + 0] = NAN;      /* in the second thread's half */
+    p[3 * 200000 + 2] = INFINITY;  /* the first one, also in the second half with 2 threads */
+    p[3 * 250000 + 1] = -NAN;
+    for (int th = 1; th <= 4; th++) {
+        o.threads = th;
+        TEST_CHECK(gtet_triangulate(p, nb, &o, &m) == GTET_ERR_NONFINITE && err.index == 200000 &&
+                       strstr(err.message, "infinite z") != NULL,
+                   "%d threads: index %zu (%s), expected 200000, infinite z", th, err.index,
+                   err.message);
+    }
+    p[3 * 200000 + 2] = 0.5;
+    p[3 * 7 + 0] = -INFINITY;  /* in the first thread's part */
+    o.threads = 2;
+    TEST_CHECK(gtet_triangulate(p, nb, &o, &m) == GTET_ERR_NONFINITE && err.index == 7,
+               "2 threads: index %zu (%s), expected 7", err.index, err.message);
+    free(p);
 }
 
 static void test_check_option_runs_the_checker(void)

@@ -64,13 +64,13 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
         return GTET_ERR_TOO_LARGE;
     }
     double t_start = omp_get_wtime();
-    gtet_status s = kval_finite(xyz, n, err);
+    int threads = opts.threads ? opts.threads : omp_get_max_threads();
+    gtet_status s = kval_finite(xyz, n, threads, err);
     if (s != GTET_OK) return s;
 
     gtet_mesh *res = calloc(1, sizeof *res);
     if (!res) return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the result");
     res->n_points = n;
-    int threads = opts.threads ? opts.threads : omp_get_max_threads();
     s = kval_dedup(xyz, n, threads, &res->vertices, &res->input_map, &res->n_vertices, err);
     if (s != GTET_OK) {
         gtet_mesh_free(&res);

@@ -30,17 +30,19 @@ void kval_error(gtet_error *err, gtet_status status, size_t index, int dimension
     va_end(ap);
 }
 
-gtet_status kval_finite(const double *xyz, size_t n, gtet_error *err)
+/* The first non-finite coordinate (smallest index, whatever the thread count). */
+gtet_status kval_finite(const double *xyz, size_t n, int threads, gtet_error *err)
 {
-    for (size_t i = 0; i < 3 * n; i++) {
-        if (!isfinite(xyz[i])) {
-            kval_error(err, GTET_ERR_NONFINITE, i / 3, -1,
-                       "point %zu has a %s %c coordinate", i / 3,
-                       isnan(xyz[i]) ? "NaN" : "infinite", "xyz"[i % 3]);
-            return GTET_ERR_NONFINITE;
-        }
-    }
-    return GTET_OK;
+    const size_t n3 = 3 * n;
+    size_t first = SIZE_MAX;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : first) \
+    if (threads > 1 && n3 > 196608)
+    for (size_t i = 0; i < n3; i++)
+        if (!isfinite(xyz[i]) && i < first) first = i;
+    if (first == SIZE_MAX) return GTET_OK;
+    kval_error(err, GTET_ERR_NONFINITE, first / 3, -1, "point %zu has a %s %c coordinate",
+               first / 3, isnan(xyz[first]) ? "NaN" : "infinite", "xyz"[first % 3]);
+    return GTET_ERR_NONFINITE;
 }
 
 static uint64_t coord_bits(double x)

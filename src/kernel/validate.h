@@ -14,7 +14,7 @@ void kval_error(gtet_error *err, gtet_status status, size_t index, int dimension
                 const char *fmt, ...) __attribute__((format(printf, 5, 6)));
 
 /* Reject NaN and infinite coordinates (GTET_ERR_NONFINITE naming the first bad index). */
-gtet_status kval_finite(const double *xyz, size_t n, gtet_error *err);
+gtet_status kval_finite(const double *xyz, size_t n, int threads, gtet_error *err);
 
 /* Exact duplicate detection (-0.0 == +0.0) in expected linear time, on up to `threads`
  * threads (the same result for any count).  On success *verts holds the 3*(*nv) coordinates
