@@ -168,12 +168,13 @@ const uint32_t *gtet_mesh_neighbors(const gtet_mesh *mesh);
 /* Per-round record of the parallel insertion. */
 typedef struct gtet_round_stats {
     uint64_t points;      /* points of this round */
-    uint64_t tried;       /* insertion attempts (retries included) */
+    uint64_t tried;       /* insertion attempts (retries included; points a thread passed
+                             over after giving up on its slice are not attempts) */
     uint64_t inserted;    /* points inserted */
     uint64_t deferred;    /* attempts rolled back on a colour conflict */
     int threads;          /* the most threads a pass of the round used */
     int passes;           /* partition passes the round needed */
-    double alpha_first;   /* success rate alpha = inserted / tried of the round's first pass
+    double alpha_first;   /* success rate alpha of the round's first pass: inserted / points
                              (paper section 4.2; it picks the next pass's policy); 1 when the
                              round was inserted serially */
 } gtet_round_stats;

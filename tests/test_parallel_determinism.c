@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "gigatet.h"
+#include "io/io.h"
 #include "testutil.h"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
@@ -397,6 +398,73 @@ static void test_duplicates_are_mapped_the_same_way_for_every_thread_count(void)
     free(p);
 }
 
+/* Points on the plane z = 0 and one apex above it: every tet has the apex, which has one
+ * colour.  Ownership by all four vertices (until 2026-11-24) let only the apex's thread insert:
+ * the first pass of every round inserted half its points (alpha 0.497 with 2 threads) and the
+ * rest went serial, so -t 2 was no faster than -t 1.  With three of four (km_owned) the other
+ * threads insert too.  Specification: the same tets for every thread count and order, and
+ * with 2 threads the big rounds' first pass inserts at least 3/4 of their points. */
+static void test_a_vertex_in_every_tet_does_not_stop_the_other_threads(void)
+{
+    const size_t n = N_RANDOM / 2;
+    double *p = uniform(n, 777);
+    TEST_REQUIRE(p != NULL, "out of memory");
+    for (size_t i = 0; i < n; i++) p[3 * i + 2] = 0;
+    p[2] = 1.0;  /* the apex */
+    same_tets_for_every_thread_count_and_order("plane + apex", p, n);
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = 2;
+    gtet_mesh *m = NULL;
+    TEST_REQUIRE(gtet_triangulate(p, n, &o, &m) == GTET_OK, "plane + apex fails");
+    gtet_stats st;
+    gtet_mesh_stats(m, &st);
+    int big = 0;
+    for (int r = 0; r < st.num_rounds; r++) {
+        const gtet_round_stats *rs = &st.rounds[r];
+        if (rs->points < 8192) continue;
+        big++;
+        TEST_CHECK(rs->alpha_first >= 0.75,
+                   "round %d (%llu points): the first pass inserted only %.3f of them", r,
+                   (unsigned long long)rs->points, rs->alpha_first);
+    }
+    TEST_CHECK(big >= 1, "no round of 8192 points or more");
+    gtet_mesh_free(&m);
+    free(p);
+}
+
+/* Points on a paraboloid (`gigatet generate paraboloid`): the cavities reach across the whole
+ * set, no parallel insertion succeeds (alpha 0.001) and the round goes serial.  Before
+ * 2026-11-24 every point was first walked and rolled back in a doomed parallel pass (1M
+ * points: -t 2 12.6 s, -t 1 10.6 s).  Specification: the same tets for every thread count,
+ * and with 2 threads a round tries each point at most once plus what the probes of the first
+ * pass cost (GIVE_UP in parallel.c: max(1024, slice / 16) per thread). */
+static void test_a_pass_where_every_point_fails_gives_up_early(void)
+{
+    double *p = NULL;
+    size_t n = 0;
+    io_error ie;
+    TEST_REQUIRE(io_generate("paraboloid", N_RANDOM / 4, 1, &p, &n, &ie) == IO_OK, "generator");
+    same_tets_for_every_thread_count_and_order("paraboloid", p, n);
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = 2;
+    gtet_mesh *m = NULL;
+    TEST_REQUIRE(gtet_triangulate(p, n, &o, &m) == GTET_OK, "paraboloid fails");
+    gtet_stats st;
+    gtet_mesh_stats(m, &st);
+    for (int r = 0; r < st.num_rounds; r++) {
+        const gtet_round_stats *rs = &st.rounds[r];
+        const double bound = (double)rs->points * (1.0 + 2.0 / 32) + 2 * 1024 + 2;
+        TEST_CHECK((double)rs->tried <= bound,
+                   "round %d: %llu tries for %llu points (alpha of the first pass %.3f)", r,
+                   (unsigned long long)rs->tried, (unsigned long long)rs->points,
+                   rs->alpha_first);
+    }
+    gtet_mesh_free(&m);
+    free(p);
+}
+
 int main(void)
 {
     TU_RUN(test_random_points_give_the_same_tets_for_1_2_3_4_8_threads_and_shuffled);
@@ -405,5 +473,7 @@ int main(void)
     TU_RUN(test_points_sharing_one_moore_key_give_the_same_tets_in_parallel);
     TU_RUN(test_points_on_a_sphere_all_on_the_hull_give_the_same_tets_in_parallel);
     TU_RUN(test_duplicates_are_mapped_the_same_way_for_every_thread_count);
+    TU_RUN(test_a_vertex_in_every_tet_does_not_stop_the_other_threads);
+    TU_RUN(test_a_pass_where_every_point_fails_gives_up_early);
     return tu_finish();
 }

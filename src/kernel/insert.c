@@ -161,8 +161,9 @@ static gtet_status scan_for_conflict(kctx *c, const double *p, uint32_t *found)
 }
 
 /* Visibility walk from c->last to a tet in conflict with p.  In a parallel pass it never
- * enters a tet with a foreign vertex (*found = UINT32_MAX: defer), and it gives up instead of
- * scanning when the step budget runs out (a scan would read other threads' tets). */
+ * enters a tet that is not this thread's (km_owned; *found = UINT32_MAX: defer), and it gives
+ * up instead of scanning when the step budget runs out (a scan would read other threads'
+ * tets). */
 static gtet_status walk(kctx *c, const double *p, uint32_t *found)
 {
     const kmesh *m = c->m;
@@ -280,7 +281,9 @@ static inline uint32_t take_slot(kctx *c)
  * exactly once before the gather reads its reverse, so the table never needs clearing (each
  * entry is stamped with the cavity's number, and the gather checks the stamps).
  * Local ids: 0 for the vertex at infinity, 1.. for the finite boundary vertices in order of
- * first sight (vloc, 0xff outside a cavity, reset at the end).  A closed boundary with nb
+ * first sight (vloc, 0xff outside a cavity, reset at the end; in a parallel pass a vertex of
+ * another colour -- a cavity tet may have one, `foreign` -- is looked up in a local list
+ * instead, as another thread may be using its vloc: O9).  A closed boundary with nb
  * triangles has nb/2 + 2 vertices (Euler), so nb <= KM_FAST_FACETS fits the 64 ids; the id
  * count is checked anyway (a non-closed boundary would be an internal error, not an overflow).
  * Returns 1 when done, 0 when the hash path must do it (nothing linked), -1 when a stamp is
@@ -288,7 +291,18 @@ static inline uint32_t take_slot(kctx *c)
 static const uint8_t TRI[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
 #define KM_FAST_FACETS (2 * (KM_LOC_MAX - 3))
 
-static int adjacency_fast(kctx *c, const uint32_t *slots, size_t nb)
+static inline void clear_vloc(uint8_t *vloc, const uint32_t *seen, int foreign, unsigned nseen,
+                              unsigned next)
+{
+    if (foreign)
+        for (unsigned q = 0; q < nseen; q++) vloc[seen[q]] = 0xff;
+    else
+        for (unsigned l = 1; l < next; l++) vloc[seen[l]] = 0xff;
+}
+
+/* Instantiated twice (foreign = 0 / 1, a constant): the common case stays branch-free. */
+static inline __attribute__((always_inline)) int adjacency_fast_t(kctx *c, const uint32_t *slots,
+                                                                  size_t nb, const int foreign)
 {
     if (nb > KM_FAST_FACETS) return 0;
     /* entries carry this cavity's number in their high half: an entry the gather reads must
@@ -300,7 +314,10 @@ static int adjacency_fast(kctx *c, const uint32_t *slots, size_t nb)
     uint64_t *tab = c->table;
     uint32_t *tn = m->tn;
     const kbound *b = c->bnd;
-    uint32_t seen[KM_LOC_MAX + 3];
+    uint32_t seen[KM_LOC_MAX + 3];    /* the vertices whose vloc is set */
+    uint32_t fv[KM_LOC_MAX + 3];      /* foreign vertices (other colour) and their ids */
+    uint8_t fl[KM_LOC_MAX + 3];
+    unsigned nseen = 0, nf = 0;
     uint8_t loc[3 * KM_FAST_FACETS];
     unsigned next = 1;
     for (size_t i = 0; i < nb; i++) {
@@ -309,17 +326,33 @@ static int adjacency_fast(kctx *c, const uint32_t *slots, size_t nb)
             const uint32_t v = b[i].v[T[j]];
             unsigned l = 0;
             if (v != KM_GHOST) {
-                l = vloc[v];
-                const unsigned fresh = l == 0xff;
-                l = fresh ? next : l;
-                vloc[v] = (uint8_t)l;
-                seen[next] = v;
-                next += fresh;
+                if (foreign && c->colour[v] != c->mine) {
+                    /* another thread may use vloc[v] right now (O9): a local list instead */
+                    unsigned q = 0;
+                    while (q < nf && fv[q] != v) q++;
+                    if (q == nf) {
+                        fv[nf] = v;
+                        fl[nf++] = (uint8_t)next++;
+                    }
+                    l = fl[q];
+                } else {
+                    l = vloc[v];
+                    const unsigned fresh = l == 0xff;
+                    l = fresh ? next : l;
+                    vloc[v] = (uint8_t)l;
+                    if (foreign) {  /* ids and vloc entries differ: count the latter */
+                        seen[nseen] = v;
+                        nseen += fresh;
+                    } else {
+                        seen[next] = v;  /* id l's vertex */
+                    }
+                    next += fresh;
+                }
             }
             loc[3 * i + (size_t)j] = (uint8_t)l;
         }
         if (next > KM_LOC_MAX) {  /* cannot happen for a closed boundary: give up */
-            for (unsigned l = 1; l < next; l++) vloc[seen[l]] = 0xff;
+            clear_vloc(vloc, seen, foreign, nseen, next);
             return 0;
         }
         const unsigned l0 = loc[3 * i], l1 = loc[3 * i + 1], l2 = loc[3 * i + 2];
@@ -340,8 +373,19 @@ static int adjacency_fast(kctx *c, const uint32_t *slots, size_t nb)
         tn[h + T[1]] = (uint32_t)e1;
         tn[h + T[2]] = (uint32_t)e2;
     }
-    for (unsigned l = 1; l < next; l++) vloc[seen[l]] = 0xff;
+    clear_vloc(vloc, seen, foreign, nseen, next);
     return stale ? -1 : 1;
+}
+
+static __attribute__((noinline)) int adjacency_fast(kctx *c, const uint32_t *slots, size_t nb)
+{
+    return adjacency_fast_t(c, slots, nb, 0);
+}
+
+static __attribute__((noinline)) int adjacency_fast_foreign(kctx *c, const uint32_t *slots,
+                                                            size_t nb)
+{
+    return adjacency_fast_t(c, slots, nb, 1);
 }
 
 /* Fallback for large cavities: open addressing on the (min, max) vertex pair. */
@@ -424,6 +468,8 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     size_t ncav = 0, nb = 0;
     if (grow((void **)&c->cav, &c->cav_cap, 64, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
     c->cav[ncav++] = t0;
+    /* the walk only enters, and starts from, tets of this thread (parallel pass) */
+    int foreign = c->colour && km_owned(c, t0) == 2;
     km_kill(m, t0);
     prefetch_neighbours(m, t0);
     for (size_t i = 0; i < ncav; i++) {
@@ -433,10 +479,14 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
             uint32_t u = h >> 2;
             if (km_dead(m, u)) continue;
             if (conflicts(c, u, p)) {
-                if (c->colour && !km_owned(c, u)) {
-                    rollback(c, ncav);
-                    *deferred = 1;
-                    return GTET_OK;
+                if (c->colour) {
+                    const int own = km_owned(c, u);
+                    if (!own) {
+                        rollback(c, ncav);
+                        *deferred = 1;
+                        return GTET_OK;
+                    }
+                    foreign |= own == 2;
                 }
                 if (grow((void **)&c->cav, &c->cav_cap, ncav + 1, sizeof *c->cav)) {
                     rollback(c, ncav);
@@ -502,7 +552,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
         m->tn[4 * (size_t)n + b->f] = b->outer;
         m->tn[b->outer] = 4 * n + b->f;
     }
-    const int fast = adjacency_fast(c, slots, nb);
+    const int fast = foreign ? adjacency_fast_foreign(c, slots, nb) : adjacency_fast(c, slots, nb);
     if (fast < 0) return GTET_ERR_INTERNAL;
     if (fast == 0) {
         s = adjacency_hash(c, slots, nb);

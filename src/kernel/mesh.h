@@ -104,13 +104,22 @@ gtet_status km_insert(kctx *c, uint32_t p, int *deferred);
 /* End of a parallel pass: the unused fresh slots of this thread go to its free list. */
 gtet_status km_flush_block(kctx *c);
 
-/* In a parallel pass: is every finite vertex of tet t of this thread's colour? */
+/* In a parallel pass, tet t is this thread's when at least three of its vertices have the
+ * thread's colour (the vertex at infinity has none: a ghost needs its three finite vertices).
+ * Then no tet is two threads', and a tet next to one of this thread's tets is no other
+ * thread's (proofs/parallel.md C1).  Returns 0: not owned; 1: owned, no vertex of another
+ * colour; 2: owned with one finite vertex of another colour (a "foreign" vertex: its vloc is
+ * not this thread's to use, adjacency_fast keeps it in a local list). */
 static inline int km_owned(const kctx *c, uint32_t t)
 {
     const uint32_t *v = c->m->tv + 4 * (size_t)t;
     const uint8_t *col = c->colour;
-    return col[v[0]] == c->mine && col[v[1]] == c->mine && col[v[2]] == c->mine &&
-           (v[3] == KM_GHOST || col[v[3]] == c->mine);
+    const uint8_t k = c->mine;
+    const int ghost = v[3] == KM_GHOST;
+    const int a = col[v[0]] == k, b = col[v[1]] == k, d = col[v[2]] == k;
+    const int e = ghost || col[v[3]] == k;
+    if (__builtin_expect(a & b & d & e, 1)) return 1;  /* the common case inside a region */
+    return a + b + d + (!ghost && e) >= 3 ? 2 : 0;
 }
 
 #endif

@@ -7,11 +7,13 @@
  * halfway along the (looping) curve between two slices' neighbouring points, and they colour
  * every vertex the mesh holds by the end of the round (colour = the slice range its key falls
  * in); vertices of later rounds are never read.  Thread k inserts the points of slice k, and an
- * insertion goes ahead only if the walk and every tet of the cavity stay within tets whose
- * finite vertices all have colour k (km_insert defers the point otherwise, having written
- * nothing).  proofs/parallel.md shows that two threads then never write, or write and read,
- * the same tet: a tet touched by thread k has three vertices of colour k, and two tets touched
- * by different threads cannot share a facet.  Fresh slots come from per-thread blocks claimed
+ * insertion goes ahead only if the walk and every tet of the cavity stay within tets with at
+ * least three vertices of colour k (km_owned; km_insert defers the point otherwise, having
+ * written nothing).  proofs/parallel.md shows that two threads then never write, or write and
+ * read, the same memory: no tet is two threads', a tet next to one of thread k's is no other
+ * thread's, and the only tets two threads both write are outer neighbours, in different
+ * neighbour slots.  Three of four, not four of four (until 2026-11-24): a vertex every tet
+ * shares -- the apex over a plane, a far outlier -- no longer stops every other thread.  Fresh slots come from per-thread blocks claimed
  * with one atomic capture; the arrays grow only between passes.
  *
  * Adaptive, as in paper §4.2, with alpha = inserted / tried in the pass and n threads:
@@ -45,6 +47,14 @@
 #define KEY_BITS 21           /* per axis: 63-bit Moore keys */
 _Static_assert(KPAR_KEY_MASK == (UINT64_C(1) << (3 * KEY_BITS)) - 1, "key mask");
 #define MIN_PER_THREAD 2048   /* fewer points per thread: fewer threads */
+/* In a pass, a thread that has tried max(GIVE_UP_MIN, its slice / GIVE_UP_PROBE) points and
+ * inserted fewer than 1 in GIVE_UP_RATE defers the rest of its slice untried: when cavities
+ * span the whole domain (points on a paraboloid: alpha = 0.001) the pass would otherwise walk
+ * and roll back every point before the round goes serial (1M points, -t 2: 12.6 s against
+ * 10.6 s with one thread; NOTES.md 2026-11-24).  Deferring is always allowed (O7, T5). */
+#define GIVE_UP_PROBE 16
+#define GIVE_UP_MIN 1024
+#define GIVE_UP_RATE 8
 /* A pass after the first retry re-keys every vertex in the mesh on its new box, and its points
  * are the hard ones (near two earlier partitions' boundaries, long walks): with fewer pending
  * points than nmesh / SERIAL_TAIL it is one serial pass instead (4M uniform, -t 2: a 99k-point
@@ -240,7 +250,7 @@ void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, ui
  * end of this round) the vertices 0..nmesh-1.  Deferred points are moved to the front of pts
  * and counted in *left. */
 static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
-                                 unsigned pass, size_t *left, int *out_of_room)
+                                 unsigned pass, size_t *left, size_t *attempts, int *out_of_room)
 {
     kmesh *m = P->m;
     /* keys: the tight box's (every vertex, computed once) in a round's first pass and its
@@ -271,7 +281,7 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
     }
 
     int status = GTET_OK;  /* the first error of any thread (a gtet_status) */
-    size_t ndef[256];
+    size_t ndef[256], ntried[256];
     int room = 0;
 #pragma omp parallel num_threads(nth)
     {
@@ -283,13 +293,22 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
         int have_start = find_start(c, nth);
 #pragma omp barrier
         size_t nd = 0;
+        /* a thread whose insertions almost all fail stops trying (GIVE_UP) */
+        const size_t probe = (end[tid] - begin[tid]) / GIVE_UP_PROBE > GIVE_UP_MIN
+                                 ? (end[tid] - begin[tid]) / GIVE_UP_PROBE : GIVE_UP_MIN;
+        size_t tried = 0;
+        int give_up = 0;
         for (size_t i = begin[tid]; i < end[tid]; i++) {
             int deferred = 1;
             gtet_status s = GTET_OK;
             int failed;
 #pragma omp atomic read
             failed = status;
-            if (have_start && !failed && !c->out_of_room) s = km_insert(c, pts[i], &deferred);
+            if (have_start && !failed && !c->out_of_room && !give_up) {
+                s = km_insert(c, pts[i], &deferred);
+                tried++;
+                give_up = tried >= probe && (tried - nd - deferred) * GIVE_UP_RATE < tried;
+            }
             if (s != GTET_OK) {
 #pragma omp critical(gtet_status)
                 if (status == GTET_OK) status = (int)s;
@@ -302,6 +321,7 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
             if (status == GTET_OK) status = (int)fs;
         }
         ndef[tid] = nd;
+        ntried[tid] = tried;
         if (c->out_of_room) {
 #pragma omp atomic write
             room = 1;
@@ -316,6 +336,8 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
         n += ndef[k];
     }
     *left = n;
+    *attempts = 0;
+    for (int k = 0; k < nth; k++) *attempts += ntried[k];
     *out_of_room = room;
     return GTET_OK;
 }
@@ -358,14 +380,15 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
         if (s != GTET_OK) return s;
         size_t left = 0;
         int out_of_room = 0;
-        s = pass_parallel(P, pts, np, nmesh, nth, pass, &left, &out_of_room);
+        size_t attempts = 0;
+        s = pass_parallel(P, pts, np, nmesh, nth, pass, &left, &attempts, &out_of_room);
         if (s != GTET_OK) return s;
         size_t inserted = np - left;
         P->done += inserted;
         if (P->progress) P->progress(P->progress_user, (double)P->done / (double)P->total);
-        rs->tried += np;
+        rs->tried += attempts;  /* points given up untried (GIVE_UP) are not attempts */
         rs->inserted += inserted;
-        rs->deferred += left;
+        rs->deferred += attempts - inserted;
         double alpha = (double)inserted / (double)np;
         if (pass == 0) rs->alpha_first = alpha;
         np = left;
