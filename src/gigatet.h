@@ -171,7 +171,8 @@ typedef struct gtet_round_stats {
     uint64_t tried;       /* insertion attempts (retries included; points a thread passed
                              over after giving up on its slice are not attempts) */
     uint64_t inserted;    /* points inserted */
-    uint64_t deferred;    /* attempts rolled back on a colour conflict */
+    uint64_t deferred;    /* attempts rolled back: a tet of another thread on the way (or the
+                             walk's step budget, or no slot left in the pass) */
     int threads;          /* the most threads a pass of the round used */
     int passes;           /* partition passes the round needed */
     double alpha_first;   /* success rate alpha of the round's first pass: inserted / points

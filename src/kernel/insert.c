@@ -467,9 +467,19 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     /* cavity: breadth-first search over conflicting tets */
     size_t ncav = 0, nb = 0;
     if (grow((void **)&c->cav, &c->cav_cap, 64, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
+    /* the walk only enters, and starts from, tets of this thread (parallel pass); checked
+     * again before the first write (O2) */
+    int foreign = 0;
+    if (c->colour) {
+        const int own = km_owned(c, t0);
+        if (!own) {
+            c->conflicts++;
+            *deferred = 1;
+            return GTET_OK;
+        }
+        foreign = own == 2;
+    }
     c->cav[ncav++] = t0;
-    /* the walk only enters, and starts from, tets of this thread (parallel pass) */
-    int foreign = c->colour && km_owned(c, t0) == 2;
     km_kill(m, t0);
     prefetch_neighbours(m, t0);
     for (size_t i = 0; i < ncav; i++) {

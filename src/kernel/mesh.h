@@ -98,7 +98,8 @@ gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t 
 
 /* Insert vertex p (not yet in the mesh, distinct from every vertex in it).  In a parallel
  * pass (c->colour set) the insertion is abandoned, with nothing written, when the walk or the
- * cavity meets a tet with a vertex of another colour or no slot is left: *deferred = 1. */
+ * cavity meets a tet that is not this thread's (km_owned), the walk runs out of steps, or no
+ * slot is left: *deferred = 1. */
 gtet_status km_insert(kctx *c, uint32_t p, int *deferred);
 
 /* End of a parallel pass: the unused fresh slots of this thread go to its free list. */

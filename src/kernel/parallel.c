@@ -16,7 +16,7 @@
  * shares -- the apex over a plane, a far outlier -- no longer stops every other thread.  Fresh slots come from per-thread blocks claimed
  * with one atomic capture; the arrays grow only between passes.
  *
- * Adaptive, as in paper §4.2, with alpha = inserted / tried in the pass and n threads:
+ * Adaptive, as in paper §4.2, with alpha = inserted / pending points of the pass, n threads:
  *   alpha <= 1/n       -> the rest of the round is inserted sequentially,
  *   1/n < alpha <= 1/6 -> half the threads (reduction),
  *   otherwise          -> same threads, new partitions: the round's first retry cuts the
@@ -32,7 +32,8 @@
  * insert.c); O3 one thread: no colours (insert_serial); O4 start tets found read-only before the
  * region's barrier (find_start); O5 slots from free lists and atomic block claims that never pass
  * the capacity (ensure_room); O6 arrays grow only between passes (kpar_round); O7 the retry
- * policy above (kpar_round); O9 vloc only for the cavity's own vertices (adjacency_fast);
+ * policy above (kpar_round); O9 vloc only for vertices of the thread's colour
+ * (adjacency_fast_foreign for cavities with a foreign vertex, adjacency_hash for big ones);
  * O11 first error in a shared status (critical), read atomically between insertions; O12 per-
  * thread counters, the slot counter is the only shared one (atomic).
  */
@@ -47,8 +48,9 @@
 #define KEY_BITS 21           /* per axis: 63-bit Moore keys */
 _Static_assert(KPAR_KEY_MASK == (UINT64_C(1) << (3 * KEY_BITS)) - 1, "key mask");
 #define MIN_PER_THREAD 2048   /* fewer points per thread: fewer threads */
-/* In a pass, a thread that has tried max(GIVE_UP_MIN, its slice / GIVE_UP_PROBE) points and
- * inserted fewer than 1 in GIVE_UP_RATE defers the rest of its slice untried: when cavities
+/* In a pass, a thread that has tried at least max(GIVE_UP_MIN, its slice / GIVE_UP_PROBE)
+ * points and has so far inserted fewer than 1 in GIVE_UP_RATE of its tries (checked after every
+ * try from then on) defers the rest of its slice untried: when cavities
  * span the whole domain (points on a paraboloid: alpha = 0.001) the pass would otherwise walk
  * and roll back every point before the round goes serial (1M points, -t 2: 12.6 s against
  * 10.6 s with one thread; NOTES.md 2026-11-24).  Deferring is always allowed (O7, T5). */
@@ -311,14 +313,20 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
             }
             if (s != GTET_OK) {
 #pragma omp critical(gtet_status)
-                if (status == GTET_OK) status = (int)s;
+                if (status == GTET_OK) {
+#pragma omp atomic write
+                    status = (int)s;
+                }
             }
             if (deferred || s != GTET_OK) pts[begin[tid] + nd++] = pts[i];
         }
         gtet_status fs = km_flush_block(c);
         if (fs != GTET_OK) {
 #pragma omp critical(gtet_status)
-            if (status == GTET_OK) status = (int)fs;
+            if (status == GTET_OK) {
+#pragma omp atomic write
+                status = (int)fs;
+            }
         }
         ndef[tid] = nd;
         ntried[tid] = tried;
