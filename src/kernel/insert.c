@@ -49,7 +49,7 @@ gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint, int
     memset(m, 0, sizeof *m);
     m->v = v;
     m->nv = nv;
-    pred_static_init_mt(v, 3, nv, threads, &m->ps);  /* every point the kernel tests is a vertex */
+    pred_static_init_mt(v, 3, nv, threads, &m->ps, m->box);  /* every point tested is a vertex */
     m->vloc = malloc(nv ? nv : 1);
     if (!m->vloc) return GTET_ERR_OUT_OF_MEMORY;
     memset(m->vloc, 0xff, nv);

@@ -40,6 +40,7 @@ typedef struct kmesh {
     size_t cap;         /* slots allocated */
     uint8_t *vloc;      /* cavity-local id of each vertex (scratch, nv bytes) */
     pred_static ps;     /* static bounds / lattice exactness for these vertices (pred.h) */
+    double box[6];      /* their bounding box (min x, y, z, max x, y, z) */
 } kmesh;
 
 /* One boundary facet of a cavity: the new tet it becomes (the deleted tet's vertices with the

@@ -100,24 +100,7 @@ gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads)
     P->keys = malloc((m->nv ? m->nv : 1) * sizeof *P->keys);
     P->skeys = malloc((m->nv ? m->nv : 1) * sizeof *P->skeys);
     if (!P->colour || !P->keys || !P->skeys) return GTET_ERR_OUT_OF_MEMORY;
-    double *b = P->bbox;
-    b[0] = b[1] = b[2] = 0;
-    b[3] = b[4] = b[5] = 0;
-    const double *v = m->v;
-    if (m->nv == 0) return GTET_OK;
-    double lo0 = v[0], lo1 = v[1], lo2 = v[2], hi0 = v[0], hi1 = v[1], hi2 = v[2];
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && m->nv > 65536) \
-    reduction(min : lo0, lo1, lo2) reduction(max : hi0, hi1, hi2)
-    for (size_t i = 0; i < m->nv; i++) {
-        const double *q = v + 3 * i;
-        lo0 = q[0] < lo0 ? q[0] : lo0;
-        lo1 = q[1] < lo1 ? q[1] : lo1;
-        lo2 = q[2] < lo2 ? q[2] : lo2;
-        hi0 = q[0] > hi0 ? q[0] : hi0;
-        hi1 = q[1] > hi1 ? q[1] : hi1;
-        hi2 = q[2] > hi2 ? q[2] : hi2;
-    }
-    b[0] = lo0, b[1] = lo1, b[2] = lo2, b[3] = hi0, b[4] = hi1, b[5] = hi2;
+    memcpy(P->bbox, m->box, sizeof P->bbox);  /* computed with the static filter's scan */
     return GTET_OK;
 }
 

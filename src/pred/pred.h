@@ -59,9 +59,11 @@ typedef struct pred_static {
 } pred_static;
 extern const pred_static pred_static_none;
 void pred_static_init(const double *xyz, size_t stride, size_t n, pred_static *ps);
-/* The same on `threads` threads (OpenMP; the scan is a reduction, the result is the same). */
+/* The same on `threads` threads (OpenMP; the scan is a reduction, the result is the same);
+ * box, unless NULL, receives the points' bounding box (min x, y, z, max x, y, z; zeros for
+ * n == 0), which the scan computes anyway. */
 void pred_static_init_mt(const double *xyz, size_t stride, size_t n, int threads,
-                         pred_static *ps);
+                         pred_static *ps, double box[6]);
 
 /* orient3d for points of ps's set: filter with its static bound, then the exact stage unless
  * the lattice makes the filter exact.  _rest: the part after a caller's inline

@@ -34,13 +34,14 @@ static int low_exponent(double x)
 
 void pred_static_init(const double *xyz, size_t stride, size_t n, pred_static *ps)
 {
-    pred_static_init_mt(xyz, stride, n, 1, ps);
+    pred_static_init_mt(xyz, stride, n, 1, ps, NULL);
 }
 
 void pred_static_init_mt(const double *xyz, size_t stride, size_t n, int threads,
-                         pred_static *ps)
+                         pred_static *ps, double box[6])
 {
     *ps = pred_static_none;
+    if (box) memset(box, 0, 6 * sizeof *box);
     if (n == 0) return;
     double lo0 = xyz[0], lo1 = xyz[1], lo2 = xyz[2], hi0 = xyz[0], hi1 = xyz[1], hi2 = xyz[2];
     int s = 2000;  /* the lattice exponent: min over nonzero coordinates */
@@ -62,6 +63,7 @@ void pred_static_init_mt(const double *xyz, size_t stride, size_t n, int threads
             }
     }
     const double lo[3] = {lo0, lo1, lo2}, hi[3] = {hi0, hi1, hi2};
+    if (box) box[0] = lo0, box[1] = lo1, box[2] = lo2, box[3] = hi0, box[4] = hi1, box[5] = hi2;
     const double X = hi[0] - lo[0], Y = hi[1] - lo[1], Z = hi[2] - lo[2];
     if (!(X <= PRED_O3_HI && Y <= PRED_O3_HI && Z <= PRED_O3_HI)) return;  /* inf, NaN, huge */
     ps->o3_seps = pred_orient3d_static_eps(X, Y, Z);
