@@ -178,6 +178,9 @@ typedef struct gtet_round_stats {
     double alpha_first;   /* success rate alpha of the round's first pass: inserted / points
                              (paper section 4.2; it picks the next pass's policy); 1 when the
                              round was inserted serially */
+    int ownership;        /* vertices of a thread's colour that made a tet its own in the
+                             round's last parallel pass: 4 (all, the default), 3 (after the
+                             run's first failed pass, proofs/parallel.md), 0 if none ran */
 } gtet_round_stats;
 
 typedef struct gtet_stats {

@@ -85,11 +85,12 @@ static void print_stats(const char *input, const gtet_mesh *mesh, double t_read,
     for (int r = 0; r < st.num_rounds && st.rounds; r++) {
         const gtet_round_stats *rs = &st.rounds[r];
         printf("%s{\"points\":%llu,\"tried\":%llu,\"inserted\":%llu,\"deferred\":%llu,"
-               "\"threads\":%d,\"passes\":%d,\"alpha\":%.4f,\"alpha_first_pass\":%.4f}",
+               "\"threads\":%d,\"passes\":%d,\"alpha\":%.4f,\"alpha_first_pass\":%.4f,"
+               "\"ownership\":%d}",
                r ? "," : "", (unsigned long long)rs->points, (unsigned long long)rs->tried,
                (unsigned long long)rs->inserted, (unsigned long long)rs->deferred, rs->threads,
                rs->passes, rs->tried ? (double)rs->inserted / (double)rs->tried : 1.0,
-               rs->alpha_first);
+               rs->alpha_first, rs->ownership);
     }
     printf("]}\n");
 }

@@ -76,6 +76,7 @@ typedef struct kctx {
      * the arrays may grow. */
     const uint8_t *colour;
     uint8_t mine;
+    uint8_t own_min;    /* vertices of its colour that make a tet this thread's: 4 or 3 */
     int out_of_room;    /* a parallel insertion was deferred for lack of slots */
     size_t blk_next, blk_end;
     uint64_t conflicts; /* insertions rolled back on a colour conflict */
@@ -106,22 +107,26 @@ gtet_status km_insert(kctx *c, uint32_t p, int *deferred);
 /* End of a parallel pass: the unused fresh slots of this thread go to its free list. */
 gtet_status km_flush_block(kctx *c);
 
-/* In a parallel pass, tet t is this thread's when at least three of its vertices have the
- * thread's colour (the vertex at infinity has none: a ghost needs its three finite vertices).
- * Then no tet is two threads', and a tet next to one of this thread's tets is no other
- * thread's (proofs/parallel.md C1).  Returns 0: not owned; 1: owned, no vertex of another
- * colour; 2: owned with one finite vertex of another colour (a "foreign" vertex: its vloc is
- * not this thread's to use, adjacency_fast keeps it in a local list). */
+/* In a parallel pass, tet t is this thread's when all its finite vertices have the thread's
+ * colour (own_min 4: the issue's and the paper's rule), or, once a run has switched
+ * (own_min 3, see kpar_round), when at least three of its four vertices have it (the vertex
+ * at infinity has none: a ghost needs its three finite vertices).  Either way no tet is two
+ * threads', and a tet next to one of this thread's tets is no other thread's
+ * (proofs/parallel.md C1).  Returns 0: not owned; 1: owned, no vertex of another colour;
+ * 2: owned with one finite vertex of another colour (a "foreign" vertex, own_min 3 only: its
+ * vloc is not this thread's to use, adjacency_fast_foreign keeps it in a local list). */
 static inline int km_owned(const kctx *c, uint32_t t)
 {
     const uint32_t *v = c->m->tv + 4 * (size_t)t;
     const uint8_t *col = c->colour;
     const uint8_t k = c->mine;
     const int ghost = v[3] == KM_GHOST;
-    const int a = col[v[0]] == k, b = col[v[1]] == k, d = col[v[2]] == k;
-    const int e = ghost || col[v[3]] == k;
-    if (__builtin_expect(a & b & d & e, 1)) return 1;  /* the common case inside a region */
-    return a + b + d + (!ghost && e) >= 3 ? 2 : 0;
+    if (col[v[0]] == k && col[v[1]] == k && col[v[2]] == k && (ghost || col[v[3]] == k))
+        return 1;  /* the common case inside a region */
+    if (c->own_min == 4) return 0;
+    const int n = (col[v[0]] == k) + (col[v[1]] == k) + (col[v[2]] == k) +
+                  (!ghost && col[v[3]] == k);
+    return n >= 3 ? 2 : 0;
 }
 
 #endif

@@ -274,6 +274,7 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
         kctx *c = &P->ctx[tid];
         c->colour = col;
         c->mine = (uint8_t)tid;
+        c->own_min = P->own3 ? 3 : 4;
         c->out_of_room = 0;
         int have_start = find_start(c, nth);
 #pragma omp barrier
@@ -375,6 +376,7 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
         s = pass_parallel(P, pts, np, nmesh, nth, pass, &left, &attempts, &out_of_room);
         if (s != GTET_OK) return s;
         size_t inserted = np - left;
+        rs->ownership = P->own3 ? 3 : 4;
         P->done += inserted;
         if (P->progress) P->progress(P->progress_user, (double)P->done / (double)P->total);
         rs->tried += attempts;  /* points given up untried (GIVE_UP) are not attempts */
@@ -385,6 +387,13 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
         np = left;
         pass++;
         if (out_of_room && inserted == 0 && m->cap >= KM_MAX_SLOTS) return GTET_ERR_TOO_LARGE;
+        if (alpha <= 1.0 / nth && !P->own3) {
+            /* the run's first failed pass: before the round goes to one thread, try
+             * three-of-four ownership, which the rest of the run keeps (with all four, a vertex
+             * in every tet -- the apex over a plane -- leaves only its own thread any work) */
+            P->own3 = 1;
+            continue;
+        }
         if (alpha <= 1.0 / nth) nth = 1;           /* sequential */
         else if (alpha <= 1.0 / 6.0) nth /= 2;     /* reduction */
         /* else: box expansion, same threads, next pass */

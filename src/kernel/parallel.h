@@ -13,6 +13,7 @@ typedef struct kpar {
     uint8_t *colour;    /* per vertex, valid during a pass */
     uint64_t *keys;     /* per vertex, Moore keys on the tight box (computed once) */
     int have_keys;
+    int own3;           /* passes use three-of-four ownership (after a failed pass, kpar_round) */
     uint64_t *skeys;    /* per vertex in the mesh, keys on a later pass's shifted box */
     uint64_t *pk, *tk;  /* pending points' keys and radix scratch */
     uint32_t *ti;
