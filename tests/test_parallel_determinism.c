@@ -398,6 +398,18 @@ static void test_duplicates_are_mapped_the_same_way_for_every_thread_count(void)
     free(p);
 }
 
+/* The mesh of p with two threads and its statistics (NULL on failure). */
+static gtet_mesh *with_two_threads(const double *p, size_t n, gtet_stats *st)
+{
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = 2;
+    gtet_mesh *m = NULL;
+    if (gtet_triangulate(p, n, &o, &m) != GTET_OK) return NULL;
+    gtet_mesh_stats(m, st);
+    return m;
+}
+
 /* Points on the plane z = 0 and one apex above it: every tet has the apex, which has one
  * colour.  Ownership by all four vertices lets only the apex's thread insert: the first pass
  * of every round inserted half its points (alpha 0.497 with 2 threads) and the rest went
@@ -414,13 +426,9 @@ static void test_a_vertex_in_every_tet_does_not_stop_the_other_threads(void)
     for (size_t i = 0; i < n; i++) p[3 * i + 2] = 0;
     p[2] = 1.0;  /* the apex */
     same_tets_for_every_thread_count_and_order("plane + apex", p, n);
-    gtet_options o;
-    gtet_options_init(&o);
-    o.threads = 2;
-    gtet_mesh *m = NULL;
-    TEST_REQUIRE(gtet_triangulate(p, n, &o, &m) == GTET_OK, "plane + apex fails");
     gtet_stats st;
-    gtet_mesh_stats(m, &st);
+    gtet_mesh *m = with_two_threads(p, n, &st);
+    TEST_REQUIRE(m != NULL, "plane + apex fails");
     TEST_REQUIRE(st.num_rounds >= 2, "%d rounds", st.num_rounds);
     const gtet_round_stats *last = &st.rounds[st.num_rounds - 1];
     TEST_CHECK(last->ownership == 3, "the last round's passes used ownership %d, not 3",
@@ -450,13 +458,9 @@ static void test_a_pass_where_every_point_fails_gives_up_early(void)
     io_error ie;
     TEST_REQUIRE(io_generate("paraboloid", N_RANDOM / 4, 1, &p, &n, &ie) == IO_OK, "generator");
     same_tets_for_every_thread_count_and_order("paraboloid", p, n);
-    gtet_options o;
-    gtet_options_init(&o);
-    o.threads = 2;
-    gtet_mesh *m = NULL;
-    TEST_REQUIRE(gtet_triangulate(p, n, &o, &m) == GTET_OK, "paraboloid fails");
     gtet_stats st;
-    gtet_mesh_stats(m, &st);
+    gtet_mesh *m = with_two_threads(p, n, &st);
+    TEST_REQUIRE(m != NULL, "paraboloid fails");
     int over = 0, first3 = -1;
     for (int r = 0; r < st.num_rounds; r++) {
         const gtet_round_stats *rs = &st.rounds[r];
