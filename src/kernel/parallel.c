@@ -100,7 +100,6 @@ gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads)
     P->keys = malloc((m->nv ? m->nv : 1) * sizeof *P->keys);
     P->skeys = malloc((m->nv ? m->nv : 1) * sizeof *P->skeys);
     if (!P->colour || !P->keys || !P->skeys) return GTET_ERR_OUT_OF_MEMORY;
-    memcpy(P->bbox, m->box, sizeof P->bbox);  /* computed with the static filter's scan */
     return GTET_OK;
 }
 
@@ -244,12 +243,12 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
     const uint64_t *keys;
     if (pass > 1) {
         double box[6];
-        pass_box(P->bbox, pass, box);
+        pass_box(m->box, pass, box);
         sort_moore_keys(m->v, 3, nmesh, box, KEY_BITS, P->skeys, nth);
         keys = P->skeys;
     } else {
         if (!P->have_keys) {
-            sort_moore_keys(m->v, 3, m->nv, P->bbox, KEY_BITS, P->keys, nth);
+            sort_moore_keys(m->v, 3, m->nv, m->box, KEY_BITS, P->keys, nth);
             P->have_keys = 1;
         }
         keys = P->keys;

@@ -9,7 +9,6 @@ typedef struct kpar {
     kmesh *m;
     kctx *ctx;          /* one per thread */
     int threads;
-    double bbox[6];     /* tight box of all vertices */
     uint8_t *colour;    /* per vertex, valid during a pass */
     uint64_t *keys;     /* per vertex, Moore keys on the tight box (computed once) */
     int have_keys;
