@@ -1,5 +1,6 @@
 /* test_sort_brio.c -- sort_brio returns a permutation cut into rounds of the specified sizes,
- * each round in Moore order of its own box, identical for any thread count and input order.
+ * each round in Moore order of the set's box, long runs in one Moore cell refined on their own
+ * box, identical for any thread count and input order; sort_brio_keys gives those keys.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -68,15 +69,15 @@ static void check_brio(const double *p, size_t n, const uint32_t *in_ids, const 
         seen[out[i]] = 2;
     }
     free(seen);
-    /* each round in Moore order of its bounding box */
+    /* each round in Moore order of the set's bounding box */
     uint64_t *key = malloc((n + 1) * sizeof *key);
     TEST_REQUIRE(key, "out of memory");
+    double box[6];
+    sort_bbox(p, 4, out, n, box, 1);
     size_t lo = 0;
     for (int r = 0; r < rounds; r++) {
         const size_t m = end[r] - lo;
-        double box[6];
-        sort_bbox(p, 4, out + lo, m, box, 1);
-        sort_moore_keys_ids(p, 4, out + lo, m, box, sort_brio_bits(m), key, 1);
+        sort_moore_keys_ids(p, 4, out + lo, m, box, sort_brio_bits(n), key, 1);
         for (size_t i = 1; i < m; i++)
             TEST_REQUIRE(key[i - 1] <= key[i], "round %d not in Moore order at %zu", r, lo + i);
         lo = end[r];
@@ -195,11 +196,12 @@ static void test_brio_breaks_ties_in_a_moore_cell_by_the_shuffle_hash(void)
     check_brio(p, N, orig, ids, end, rounds);
     const uint64_t salt = sort_hash64(9);
     size_t lo = 0, ties = 0;
+    double box[6];
+    sort_bbox(p, 4, ids, N, box, 1);
     for (int r = 0; r < rounds; r++) {
         const size_t m = end[r] - lo;
-        double box[6];
-        sort_bbox(p, 4, ids + lo, m, box, 1);
-        sort_moore_keys_ids(p, 4, ids + lo, m, box, sort_brio_bits(m), key, 1);
+        /* runs of coincident points: nothing to refine, so hash order */
+        sort_moore_keys_ids(p, 4, ids + lo, m, box, sort_brio_bits(N), key, 1);
         for (size_t i = 1; i < m; i++)
             if (key[i - 1] == key[i]) {
                 ties++;
@@ -232,17 +234,58 @@ static int ref_cmp(const void *a, const void *b)
     return x->pos < y->pos ? -1 : x->pos > y->pos;
 }
 
+/* ids[0..m) sorted stably by their Moore keys on box with `bits` bits (qsort on (key, pos));
+ * keys_sorted[i] gets the key of the point now at i */
+static void ref_sort_by_key(const double *p, uint32_t *ids, size_t m, const double box[6],
+                            int bits, ref_item *it, uint64_t *key, uint64_t *keys_sorted)
+{
+    sort_moore_keys_ids(p, 4, ids, m, box, bits, key, 1);
+    for (size_t i = 0; i < m; i++)
+        it[i] = (ref_item){key[i], ids[i], (uint32_t)i};
+    qsort(it, m, sizeof *it, ref_cmp);
+    for (size_t i = 0; i < m; i++) {
+        ids[i] = it[i].id;
+        keys_sorted[i] = it[i].key;
+    }
+}
+
+/* sort.h's refinement, literally: runs of more than 32 equal keys (ks) sorted on their own
+ * box, recursively, to 32 levels; ks is consumed */
+static void ref_refine_runs(const double *p, uint32_t *ids, const uint64_t *ks, size_t m,
+                            int depth, ref_item *it, uint64_t *key)
+{
+    for (size_t i = 0; i < m;) {
+        size_t j = i + 1;
+        while (j < m && ks[j] == ks[i])
+            j++;
+        if (j - i > 32 && depth <= 32) {
+            double box[6];
+            sort_bbox(p, 4, ids + i, j - i, box, 1);
+            if (!(box[0] == box[3] && box[1] == box[4] && box[2] == box[5])) {
+                uint64_t *sub = malloc((j - i) * sizeof *sub);
+                TEST_REQUIRE(sub, "out of memory");
+                ref_sort_by_key(p, ids + i, j - i, box, sort_brio_bits(j - i), it, key, sub);
+                ref_refine_runs(p, ids + i, sub, j - i, depth + 1, it, key);
+                free(sub);
+            }
+        }
+        i = j;
+    }
+}
+
 /* The definition of sort.h, literally: qsort by hash, cut with the documented rule, each round
- * stably qsorted by its Moore key. */
+ * stably qsorted by its Moore key on the set's box, long runs refined. */
 static void reference_brio(const double *p, uint32_t *ids, size_t n, uint64_t seed, size_t first,
                            double ratio)
 {
-    ref_item *it = malloc(n * sizeof *it);
-    uint64_t *key = malloc(n * sizeof *key);
-    if (!it || !key) {
+    ref_item *it = malloc((n + 1) * sizeof *it);
+    uint64_t *key = malloc((n + 1) * sizeof *key), *ks = malloc((n + 1) * sizeof *ks);
+    if (!it || !key || !ks) {
         TEST_CHECK(0, "out of memory");
         return;
     }
+    double box[6];
+    sort_bbox(p, 4, ids, n, box, 1);
     const uint64_t salt = sort_hash64(seed);
     for (size_t i = 0; i < n; i++)
         it[i] = (ref_item){sort_hash64(ids[i] + salt), ids[i], (uint32_t)i};
@@ -261,43 +304,150 @@ static void reference_brio(const double *p, uint32_t *ids, size_t n, uint64_t se
     size_t lo = 0;
     for (int k = r - 1; k >= 0; k--) {
         const size_t m = down[k] - lo;
-        double box[6];
-        sort_bbox(p, 4, ids + lo, m, box, 1);
-        sort_moore_keys_ids(p, 4, ids + lo, m, box, sort_brio_bits(m), key, 1);
-        for (size_t i = 0; i < m; i++)
-            it[i] = (ref_item){key[i], ids[lo + i], (uint32_t)i};
-        qsort(it, m, sizeof *it, ref_cmp);
-        for (size_t i = 0; i < m; i++)
-            ids[lo + i] = it[i].id;
+        ref_sort_by_key(p, ids + lo, m, box, sort_brio_bits(n), it, key, ks);
+        ref_refine_runs(p, ids + lo, ks, m, 1, it, key);
         lo = down[k];
     }
     free(it);
     free(key);
+    free(ks);
+}
+
+/* kind 0: uniform; 1: 27 positions (ties); 2: one point far away (the rest in one Moore cell:
+ * refined); 3: nested clusters, 10^-4 and 10^-9 wide (refined on two and more levels) */
+static void shape_points(double *p, size_t n, int kind)
+{
+    if (kind == 1)
+        for (size_t i = 0; i < 4 * n; i++)
+            p[i] = floor(p[i] * 3);
+    if (kind == 2 && n > 0)
+        p[0] = p[1] = p[2] = 1e9;
+    if (kind == 3)
+        for (size_t i = 0; i < n; i++) {
+            const double s = i % 3 == 0 ? 1.0 : i % 3 == 1 ? 1e-4 : 1e-9;
+            for (int a = 0; a < 3; a++)
+                p[4 * i + a] = 0.25 + p[4 * i + a] * s;
+        }
 }
 
 static void test_brio_equals_the_literal_definition(void)
 {
     static const size_t sizes[] = {1, 7, 3000, 60000};
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
-        for (int ties = 0; ties < 2; ties++) {
+        for (int kind = 0; kind < 4; kind++) {
             const size_t n = sizes[s];
             double *p = random_points(n, 500 + s);
             uint32_t *ids = scrambled_ids(n, 600 + s), *ref = scrambled_ids(n, 600 + s);
             TEST_REQUIRE(p && ids && ref, "out of memory");
-            if (ties)
-                for (size_t i = 0; i < 4 * n; i++)
-                    p[i] = floor(p[i] * 3);
+            shape_points(p, n, kind);
             reference_brio(p, ref, n, 31, 500, 5.5);
             size_t end[64];
             int rounds;
             TEST_REQUIRE(sort_brio(p, 4, ids, n, 31, 500, 5.5, end, &rounds, 2) == GTET_OK,
                          "failed");
             TEST_CHECK(memcmp(ids, ref, n * sizeof *ids) == 0,
-                       "n=%zu ties=%d: sort_brio differs from the literal definition", n, ties);
+                       "n=%zu kind %d: sort_brio differs from the literal definition", n, kind);
             free(p);
             free(ids);
             free(ref);
         }
+    }
+}
+
+/* mean distance between consecutive points of ids[lo..hi) that both lie within `radius` of
+ * (0.25, 0.25, 0.25) in every coordinate */
+static double mean_step(const double *p, const uint32_t *ids, size_t lo, size_t hi, double radius)
+{
+    double sum = 0;
+    size_t cnt = 0;
+    for (size_t i = lo + 1; i < hi; i++) {
+        const double *a = p + 4 * (size_t)ids[i - 1], *b = p + 4 * (size_t)ids[i];
+        int in = 1;
+        for (int k = 0; k < 3; k++)
+            in &= fabs(a[k] - 0.25) <= radius && fabs(b[k] - 0.25) <= radius;
+        if (!in)
+            continue;
+        sum += sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                    (a[2] - b[2]) * (a[2] - b[2]));
+        cnt++;
+    }
+    return cnt ? sum / (double)cnt : 0;
+}
+
+static void test_brio_orders_a_set_with_a_far_point_as_finely_as_without(void)
+{
+    /* the issue behind the refinement: with one point at 10^9 every other point is in one
+     * Moore cell of the box, and hash order there is random order (a walk across the mesh per
+     * insertion); refined, consecutive points are as close as in the uniform set.  The same
+     * inside nested clusters: the third of the points in a cube 10^-9 wide (two levels down)
+     * is ordered at its own scale (its spacing is cbrt(3) times the full set's, scaled) */
+    enum { N = 100000 };
+    double *p = random_points(N, 900);
+    uint32_t *ids = scrambled_ids(N, 901), *uni = scrambled_ids(N, 901);
+    TEST_REQUIRE(p && ids && uni, "out of memory");
+    size_t end[64];
+    int rounds;
+    TEST_REQUIRE(sort_brio(p, 4, uni, N, 5, 1000, 6, end, &rounds, 2) == GTET_OK, "failed");
+    const double base = mean_step(p, uni, end[rounds - 2], end[rounds - 1], 2.0);
+    double *q = malloc(4 * N * sizeof *q);
+    TEST_REQUIRE(q, "out of memory");
+    for (int kind = 2; kind <= 3; kind++) {
+        memcpy(q, p, 4 * N * sizeof *q);
+        shape_points(q, N, kind);
+        memcpy(ids, uni, N * sizeof *ids);
+        TEST_REQUIRE(sort_brio(q, 4, ids, N, 5, 1000, 6, end, &rounds, 2) == GTET_OK, "failed");
+        const double scale = kind == 2 ? 1.0 : 1e-9;
+        const double step = mean_step(q, ids, end[rounds - 2], end[rounds - 1],
+                                      kind == 2 ? 1.0 : 2e-9);
+        const double bound = (kind == 2 ? 1.5 : 1.5 * cbrt(3.0)) * base * scale;
+        TEST_CHECK(step > 0 && step < bound, "kind %d: mean step %g, bound %g (uniform: %g)",
+                   kind, step, bound, base);
+    }
+    free(q);
+    free(p);
+    free(ids);
+    free(uni);
+}
+
+static void test_brio_keys_are_the_moore_keys_on_the_sets_box(void)
+{
+    enum { N = 50000 };
+    for (int kind = 0; kind < 3; kind += 2) {
+        double *p = random_points(N, 910);
+        uint32_t *ids = scrambled_ids(N, 911), *ref = scrambled_ids(N, 911);
+        uint64_t *want = malloc(N * sizeof *want);
+        TEST_REQUIRE(p && ids && ref && want, "out of memory");
+        shape_points(p, N, kind);
+        size_t end[64], end2[64], refined = 12345;
+        int rounds, rounds2, bits = 0;
+        uint64_t *keys = NULL;
+        TEST_REQUIRE(sort_brio(p, 4, ref, N, 8, 700, 6, end, &rounds, 1) == GTET_OK, "failed");
+        TEST_REQUIRE(sort_brio_keys(p, 4, ids, N, 8, 700, 6, end2, &rounds2, 2, &keys, &bits,
+                                    &refined) == GTET_OK && keys,
+                     "sort_brio_keys failed");
+        TEST_CHECK(rounds2 == rounds && memcmp(ids, ref, N * sizeof *ids) == 0,
+                   "sort_brio_keys orders differently from sort_brio");
+        TEST_CHECK(bits == sort_brio_bits(N), "bits %d", bits);
+        TEST_CHECK(kind == 0 ? refined == 0 : refined >= N - 1 - N / 700,
+                   "kind %d: %zu points refined", kind, refined);
+        double box[6];
+        sort_bbox(p, 4, ids, N, box, 1);
+        sort_moore_keys_ids(p, 4, ids, N, box, bits, want, 1);
+        size_t bad = 0, down = 0;
+        int r = 0;
+        for (size_t i = 0; i < N; i++) {
+            while (i >= end[r])
+                r++;
+            bad += keys[i] != ((uint64_t)r << (3 * bits) | want[i]);
+            down += i > 0 && keys[i] < keys[i - 1];
+        }
+        TEST_CHECK(bad == 0 && down == 0, "kind %d: %zu keys differ, %zu decrease", kind, bad,
+                   down);
+        free(keys);
+        free(p);
+        free(ids);
+        free(ref);
+        free(want);
     }
 }
 
@@ -326,6 +476,8 @@ int main(void)
     TU_RUN(test_brio_is_identical_for_any_thread_count_and_input_order);
     TU_RUN(test_brio_breaks_ties_in_a_moore_cell_by_the_shuffle_hash);
     TU_RUN(test_brio_equals_the_literal_definition);
+    TU_RUN(test_brio_orders_a_set_with_a_far_point_as_finely_as_without);
+    TU_RUN(test_brio_keys_are_the_moore_keys_on_the_sets_box);
     TU_RUN(test_brio_rejects_bad_arguments);
     return tu_finish();
 }

@@ -1,24 +1,28 @@
 /* brio.c -- the biased randomized insertion order (BRIO, Amenta-Choi-Rote) on the Moore curve.
  *
  * Shuffle, cut into rounds of geometrically growing size, sort each round along the Moore
- * curve of its own bounding box (seed paper section 3; HXT's computePasses).  Early rounds
- * are random samples of the whole set, so the triangulation they build is well shaped; inside
- * a round the curve order keeps consecutive insertions close, so the walk is short.
+ * curve of the set's bounding box (seed paper section 3; HXT's computePasses), then sort again,
+ * on its own box, every long run of points that share a Moore cell.  Early rounds are random
+ * samples of the whole set, so the triangulation they build is well shaped; inside a round the
+ * curve order keeps consecutive insertions close, so the walk is short -- also when most
+ * points sit in a few cells of the box (one point far away, clusters, heavy tails), which the
+ * refinement sorts as finely as a uniform set.  One box and one key length for every round let
+ * the parallel kernel colour its vertices with these keys (sort_brio_keys).
  *
- * The definition (sort.h) is "sort by hash, cut, Moore-sort each round stably".  Done
- * literally, each round would read its points in random order (two cache misses per point);
- * instead every step here reads the points in input order:
+ * The definition (sort.h) is "sort by hash, cut, Moore-sort each round stably, refine long
+ * runs".  Done literally, each round would read its points in random order (two cache misses
+ * per point); instead every step here reads the points in input order:
  *   1. the hashes of rank round_end[r] - 1 (the round thresholds) are found by selection: a
  *      histogram of the top 12 hash bits, then an exact sort of the few buckets that hold a
  *      threshold rank;
  *   2. a point's round is the first r whose threshold is >= its hash (hashes are distinct:
  *      the hash is a bijection of the id, and ids are distinct), which is exactly its round
- *      in the hash order; the rounds' bounding boxes are accumulated in the same pass;
- *   3. key = round << S | Moore key on the round's box (S = 3 * the largest bits), and one
- *      stable radix sort of all (key, id) pairs puts the rounds in order, each in Moore
- *      order;
+ *      in the hash order; the bounding box is accumulated in the same pass;
+ *   3. key = round << S | Moore key on the box (S = 3 * bits), and one stable radix sort of all
+ *      (key, id) pairs puts the rounds in order, each in Moore order;
  *   4. equal keys (points of one Moore cell) are then put in hash order: a run of equal keys
- *      is sorted by hash, which is the tie order the definition gives.
+ *      is sorted by hash, which is the tie order the definition gives; a run longer than
+ *      BRIO_REFINE_MIN is then refined (refine_run).
  *
  * Why it is deterministic: the hash depends on (id, seed) only; thresholds, rounds, boxes
  * (exact min/max, -0.0 normalised) and keys depend on the data only; stable sorts have unique
@@ -37,6 +41,8 @@
 #define BRIO_PARALLEL_MIN 8192
 #define BRIO_SELECT_BITS 12
 #define BRIO_SELECT_SIZE (1u << BRIO_SELECT_BITS)
+#define BRIO_REFINE_MIN 32   /* longer runs of equal keys are sorted on their own box */
+#define BRIO_REFINE_DEPTH 32 /* levels of that (each shrinks the box by 2^5 or more per axis) */
 
 int sort_brio_bits(size_t m)
 {
@@ -136,57 +142,86 @@ static gtet_status select_ranks(const uint64_t *h, size_t n, const size_t *rank,
     return GTET_OK;
 }
 
-/* Round of each point (round[i]) and the rounds' bounding boxes, in input order. */
-static void rounds_and_boxes(const double *xyz, size_t stride, const uint32_t *ids,
-                             const uint64_t *h, size_t n, const uint64_t *thr, int rounds,
-                             uint8_t *round, double (*box)[6], int threads)
+/* Round of each point (round[i]) and the bounding box of all the points, in input order. */
+static void rounds_and_box(const double *xyz, size_t stride, const uint32_t *ids,
+                           const uint64_t *h, size_t n, const uint64_t *thr, int rounds,
+                           uint8_t *round, double box[6], int threads)
 {
-    for (int r = 0; r < rounds; r++)
-        for (int a = 0; a < 3; a++) {
-            box[r][a] = INFINITY;
-            box[r][a + 3] = -INFINITY;
-        }
+    double x0 = INFINITY, y0 = INFINITY, z0 = INFINITY;
+    double x1 = -INFINITY, y1 = -INFINITY, z1 = -INFINITY;
     const int nt = (threads > 1 && n >= BRIO_PARALLEL_MIN) ? threads : 1;
-#pragma omp parallel num_threads(nt) if (nt > 1)
-    {
-        double lb[BRIO_MAX_ROUNDS][6];
-        for (int r = 0; r < rounds; r++)
-            for (int a = 0; a < 3; a++) {
-                lb[r][a] = INFINITY;
-                lb[r][a + 3] = -INFINITY;
-            }
-#pragma omp for schedule(static)
-        for (size_t i = 0; i < n; i++) {
-            int r = rounds - 1;
-            while (r > 0 && h[i] <= thr[r - 1])
-                r--;
-            round[i] = (uint8_t)r;
-            const double *p = xyz + (size_t)ids[i] * stride;
-            for (int a = 0; a < 3; a++) {
-                if (p[a] < lb[r][a]) lb[r][a] = p[a];
-                if (p[a] > lb[r][a + 3]) lb[r][a + 3] = p[a];
-            }
-        }
-#pragma omp critical(gtet_brio_boxes)
-        for (int r = 0; r < rounds; r++)
-            for (int a = 0; a < 3; a++) {
-                if (lb[r][a] < box[r][a]) box[r][a] = lb[r][a];
-                if (lb[r][a + 3] > box[r][a + 3]) box[r][a + 3] = lb[r][a + 3];
-            }
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
+    reduction(min : x0, y0, z0) reduction(max : x1, y1, z1)
+    for (size_t i = 0; i < n; i++) {
+        int r = rounds - 1;
+        while (r > 0 && h[i] <= thr[r - 1])
+            r--;
+        round[i] = (uint8_t)r;
+        const double *p = xyz + (size_t)ids[i] * stride;
+        if (p[0] < x0) x0 = p[0];
+        if (p[1] < y0) y0 = p[1];
+        if (p[2] < z0) z0 = p[2];
+        if (p[0] > x1) x1 = p[0];
+        if (p[1] > y1) y1 = p[1];
+        if (p[2] > z1) z1 = p[2];
     }
     /* as sort_bbox: -0.0 -> +0.0 (min/max are exact, only a zero's sign could vary) */
-    for (int r = 0; r < rounds; r++)
-        for (int a = 0; a < 3; a++) {
-            const int empty = !(box[r][a] <= box[r][a + 3]);
-            box[r][a] = empty ? 0.0 : box[r][a] + 0.0;
-            box[r][a + 3] = empty ? 0.0 : box[r][a + 3] + 0.0;
-        }
+    const double lo[3] = {x0, y0, z0}, hi[3] = {x1, y1, z1};
+    for (int a = 0; a < 3; a++) {
+        const int empty = !(lo[a] <= hi[a]);
+        box[a] = empty ? 0.0 : lo[a] + 0.0;
+        box[a + 3] = empty ? 0.0 : hi[a] + 0.0;
+    }
+}
+
+/* Refinement of a run of n > BRIO_REFINE_MIN points with equal keys (ids in hash order on
+ * entry): stable sort by the Moore key on the run's own box with sort_brio_bits(n) bits, then
+ * the same for every sub-run of equal keys longer than BRIO_REFINE_MIN, down to depth
+ * BRIO_REFINE_DEPTH.  kscr, tk, ti: scratch of n entries.  A run whose points all coincide is
+ * left in hash order (nothing to sort).  The run's box shrinks by 2^bits >= 32 per axis at
+ * each level (a sub-run lies in one cell of its parent's box), so the depth bounds both the
+ * recursion and the work: at most BRIO_REFINE_DEPTH keys and sorts per point. */
+static void refine_run(const double *xyz, size_t stride, uint32_t *ids, size_t n, int depth,
+                       uint64_t *kscr, uint64_t *tk, uint32_t *ti, int threads)
+{
+    double box[6];
+    sort_bbox(xyz, stride, ids, n, box, threads);
+    if (box[0] == box[3] && box[1] == box[4] && box[2] == box[5])
+        return;
+    const int bits = sort_brio_bits(n);
+    sort_moore_keys_ids(xyz, stride, ids, n, box, bits, kscr, threads);
+    sort_radix_pairs(kscr, ids, n, 3 * bits, tk, ti, threads);
+    if (depth >= BRIO_REFINE_DEPTH)
+        return;
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && kscr[j] == kscr[i])
+            j++;
+        if (j - i > BRIO_REFINE_MIN)
+            refine_run(xyz, stride, ids + i, j - i, depth + 1, kscr + i, tk + i, ti + i, threads);
+        i = j;
+    }
 }
 
 gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t seed,
                       size_t first, double ratio, size_t round_end[64], int *num_rounds,
                       int threads)
 {
+    return sort_brio_keys(xyz, stride, ids, n, seed, first, ratio, round_end, num_rounds,
+                          threads, NULL, NULL, NULL);
+}
+
+gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size_t n,
+                           uint64_t seed, size_t first, double ratio, size_t round_end[64],
+                           int *num_rounds, int threads, uint64_t **keys_out, int *key_bits_out,
+                           size_t *refined_out)
+{
+    if (keys_out)
+        *keys_out = NULL;
+    if (refined_out)
+        *refined_out = 0;
+    if (key_bits_out)
+        *key_bits_out = sort_brio_bits(n);
     if (!num_rounds)
         return GTET_ERR_ARGUMENT;
     *num_rounds = 0;
@@ -220,38 +255,53 @@ gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n,
     if (st != GTET_OK)
         goto out;
 
-    /* 2. rounds and their boxes; 3. keys and one stable sort */
+    /* 2. rounds and the box; 3. keys and one stable sort */
     double box[BRIO_MAX_ROUNDS][6];
-    int bits[BRIO_MAX_ROUNDS], maxbits = 1;
-    rounds_and_boxes(xyz, stride, ids, tk, n, thr, rounds, round, box, threads);
+    int bits[BRIO_MAX_ROUNDS];
+    const int kbits = sort_brio_bits(n);
+    rounds_and_box(xyz, stride, ids, tk, n, thr, rounds, round, box[0], threads);
     for (int r = 0; r < rounds; r++) {
-        bits[r] = sort_brio_bits(end[r] - (r ? end[r - 1] : 0));
-        if (bits[r] > maxbits)
-            maxbits = bits[r];
+        memcpy(box[r], box[0], sizeof box[0]);
+        bits[r] = kbits;
     }
     int rbits = 0;
     while ((1 << rbits) < rounds)
         rbits++;
     sort_moore_keys_rounds(xyz, stride, ids, n, round, rounds, (const double (*)[6])box, bits,
-                           3 * maxbits, keys, threads);
-    sort_radix_pairs(keys, ids, n, 3 * maxbits + rbits, tk, ti, threads);
+                           3 * kbits, keys, threads);
+    sort_radix_pairs(keys, ids, n, 3 * kbits + rbits, tk, ti, threads);
 
-    /* 4. runs of equal keys into hash order (keys[i..j) is free once the run is found) */
+    /* 4. runs of equal keys into hash order, the long ones refined (keys[i..j) is scratch
+     * once the run is found, and gets the run's key back) */
+    size_t refined = 0;
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
         while (j < n && keys[j] == keys[i])
             j++;
         if (j - i > 1) {
+            const uint64_t run_key = keys[i];
             for (size_t u = i; u < j; u++)
                 tk[u] = sort_hash64((uint64_t)ids[u] + salt);
             sort_radix_pairs(tk + i, ids + i, j - i, 64, keys + i, ti + i, threads);
+            if (j - i > BRIO_REFINE_MIN) {
+                refine_run(xyz, stride, ids + i, j - i, 1, keys + i, tk + i, ti + i, threads);
+                refined += j - i;
+            }
+            for (size_t u = i; u < j; u++)
+                keys[u] = run_key;
         }
         i = j;
     }
+    if (refined_out)
+        *refined_out = refined;
     for (int r = 0; r < rounds; r++)
         round_end[r] = end[r];
     *num_rounds = rounds;
     st = GTET_OK;
+    if (keys_out) {
+        *keys_out = keys;
+        keys = NULL;
+    }
 out:
     free(keys);
     free(tk);

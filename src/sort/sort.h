@@ -56,10 +56,10 @@ void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
 
 /* The BRIO order of points xyz[i*stride] for the listed point ids ids[0..n):
  * shuffle by a hash of (id, seed), cut into rounds (the first of at most `first` points, each
- * next about `ratio` times larger), and sort each round on the Moore curve of the points'
- * bounding box.  On return ids[] holds the insertion order and round_end[r] (r <
- * *num_rounds <= 64) the exclusive end of round r.  Returns GTET_OK or
- * GTET_ERR_OUT_OF_MEMORY.
+ * next about `ratio` times larger), and sort each round on the Moore curve of the bounding box
+ * of all n points, refining the cells that hold many points.  On return ids[] holds the
+ * insertion order and round_end[r] (r < *num_rounds <= 64) the exclusive end of round r.
+ * Returns GTET_OK or GTET_ERR_OUT_OF_MEMORY.
  * Precisely: the shuffle sorts ids by sort_hash64(id + sort_hash64(seed)) (a bijection of the
  * id, so no ties among distinct ids: the order depends on the set of ids, not on their order
  * in ids[]; ids must be distinct -- with repeated ids the output is still a permutation of
@@ -68,13 +68,32 @@ void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
  *   round_end[r-1] = min(max(floor(round_end[r] / ratio), 1), round_end[r] - 1);
  * if that would make more than 64 rounds, the smallest ones are merged into the first (which
  * then holds more than `first` points).  Round r = [round_end[r-1], round_end[r]) is stably
- * sorted by sort_moore_keys_ids with sort_bbox of its points and sort_brio_bits(its size)
- * (equal keys thus stay in hash order).  Memory: 21 bytes per point, freed on return.
+ * sorted by sort_moore_keys_ids with sort_bbox of all n points and sort_brio_bits(n) bits per
+ * axis (equal keys thus stay in hash order).  Refinement: every maximal run of more than 32
+ * consecutive points of a round with equal keys, unless its points all coincide, is stably
+ * sorted by sort_moore_keys_ids on sort_bbox of the run's points with sort_brio_bits(run
+ * length) bits, and so on for the runs of equal keys that this makes, to 32 levels.  (Without
+ * it, one point far away puts the whole set into one Moore cell: 10^6 uniform points and one
+ * at 10^6 took 37.6 s with one thread instead of 1.5; NOTES.md 2026-11-24.)
+ * Memory: 21 bytes per point, freed on return.
  * Additions: GTET_ERR_ARGUMENT when n > 0 and a pointer is NULL, first == 0, !(ratio > 1),
  * or n > 2^32.  n == 0 gives *num_rounds = 0. */
 gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t seed,
                       size_t first, double ratio, size_t round_end[64], int *num_rounds,
                       int threads);
+
+/* Addition: sort_brio, and its keys.  When keys_out is not NULL and the result is GTET_OK,
+ * *keys_out is a malloc'ed array of n keys (the caller frees it; NULL otherwise): with
+ * b = *key_bits_out = sort_brio_bits(n), the low 3b bits of (*keys_out)[i] are the Moore key of
+ * the point ids[i] (after sorting) on the box of all n points with b bits per axis, and the
+ * bits above them its round number; so the keys do not decrease along the order.  The memory
+ * is sort_brio's own key array (8 bytes per point), kept instead of freed.  *refined_out (when
+ * not NULL): the number of points in runs that were refined -- 0 when every Moore cell of the
+ * box held at most 32 points of a round, i.e. when the keys alone order the set finely. */
+gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size_t n,
+                           uint64_t seed, size_t first, double ratio, size_t round_end[64],
+                           int *num_rounds, int threads, uint64_t **keys_out,
+                           int *key_bits_out, size_t *refined_out);
 
 /* Addition: bits per axis of the Moore keys of a BRIO round of m points:
  * ceil(log2(m) / 3) + 3, between 1 and 21 (about 64 to 512 cells per point: enough to order
