@@ -1,15 +1,17 @@
 /* parallel.c -- concurrent insertion of one BRIO round on Moore-curve partitions (paper §4).
  *
- * A pass: the pending points of the round get Moore keys on a bounding box (the tight box in
- * the first pass: every vertex's key on it is computed once for the whole run; an enlarged and
- * shifted one in later passes, where only the vertices of the mesh are re-keyed), are sorted by
- * key and cut into one slice per thread, never between equal keys.  The colour boundaries lie
+ * A pass: the pending points of the round get Moore keys (in a round's first pass and first
+ * retry the BRIO's, on the box of all points, which the round's BRIO order already follows, so
+ * nothing is computed or sorted -- or, when the BRIO had to refine crowded cells, 21-bit keys on
+ * the tight box computed once per run; on an enlarged and shifted box in later passes, where
+ * only the vertices of the mesh are re-keyed), are sorted by key and cut into one slice per
+ * thread, never between equal keys.  The colour boundaries lie
  * halfway along the (looping) curve between two slices' neighbouring points, and they colour
  * every vertex the mesh holds by the end of the round (colour = the slice range its key falls
  * in); vertices of later rounds are never read.  Thread k inserts the points of slice k, and an
- * insertion goes ahead only if the walk and every tet of the cavity stay within tets with at
- * least three vertices of colour k (km_owned; km_insert defers the point otherwise, having
- * written nothing).  proofs/parallel.md shows that two threads then never write, or write and
+ * insertion goes ahead only if the walk and every tet of the cavity stay within tets of
+ * thread k (all four vertices of colour k, or three once the run has switched: km_owned;
+ * km_insert defers the point otherwise, having written nothing).  proofs/parallel.md shows that two threads then never write, or write and
  * read, the same memory: no tet is two threads', a tet next to one of thread k's is no other
  * thread's, and the only tets two threads both write are outer neighbours, in different
  * neighbour slots.  Three of four, not four of four (until 2026-11-24): a vertex every tet
@@ -90,14 +92,21 @@ static void pass_box(const double tight[6], unsigned pass, double out[6])
     }
 }
 
-gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads)
+gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys, int key_bits)
 {
     memset(P, 0, sizeof *P);
     P->m = m;
     P->ctx = ctx;
     P->threads = threads;
     P->colour = malloc(m->nv ? m->nv : 1);
-    P->keys = malloc((m->nv ? m->nv : 1) * sizeof *P->keys);
+    if (keys && key_bits >= 1 && key_bits <= KEY_BITS) {
+        P->keys = keys;
+        P->key_shift = 3 * (KEY_BITS - key_bits);
+        P->have_keys = 1;
+    } else {
+        free(keys);
+        P->keys = malloc((m->nv ? m->nv : 1) * sizeof *P->keys);
+    }
     P->skeys = malloc((m->nv ? m->nv : 1) * sizeof *P->skeys);
     if (!P->colour || !P->keys || !P->skeys) return GTET_ERR_OUT_OF_MEMORY;
     return GTET_OK;
@@ -237,10 +246,11 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
                                  unsigned pass, size_t *left, size_t *attempts, int *out_of_room)
 {
     kmesh *m = P->m;
-    /* keys: the tight box's (every vertex, computed once) in a round's first pass and its
-     * first retry (cut half a slice further along the loop: kpar_slices); later passes re-key
-     * the vertices in the mesh on an enlarged, shifted box (paper section 4.2) */
+    /* keys: kpar.keys (the BRIO's, or the tight box's computed once) in a round's first pass
+     * and its first retry (cut half a slice further along the loop: kpar_slices); later passes
+     * re-key the vertices in the mesh on an enlarged, shifted box (paper section 4.2) */
     const uint64_t *keys;
+    int sh = 0;  /* a vertex's 63-bit key: (keys[v] << sh) & KPAR_KEY_MASK (kpar.keys) */
     if (pass > 1) {
         double box[6];
         pass_box(m->box, pass, box);
@@ -252,16 +262,25 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
             P->have_keys = 1;
         }
         keys = P->keys;
+        sh = P->key_shift;
     }
-    for (size_t i = 0; i < np; i++) P->pk[i] = keys[pts[i]];
-    sort_radix_pairs(P->pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
+    /* a round's points come in BRIO order, which with the BRIO's keys is key order (so is the
+     * first retry's, a subsequence): the sort is then skipped */
+    uint64_t *pk = P->pk;
+    int unsorted = 0;
+#pragma omp parallel for num_threads(nth) schedule(static) reduction(| : unsorted)
+    for (size_t i = 0; i < np; i++) {
+        pk[i] = (keys[pts[i]] << sh) & KPAR_KEY_MASK;
+        if (i > 0) unsorted |= ((keys[pts[i - 1]] << sh) & KPAR_KEY_MASK) > pk[i];
+    }
+    if (unsorted) sort_radix_pairs(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
     size_t begin[256], end[256];
     uint64_t rel[256], bound0;
-    kpar_slices(P->pk, pts, np, nth, pass == 1, P->tk, P->ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, nth, pass == 1, P->tk, P->ti, begin, end, rel, &bound0);
     uint8_t *col = P->colour;
 #pragma omp parallel for num_threads(nth) schedule(static)
     for (size_t v = 0; v < nmesh; v++) {
-        col[v] = (uint8_t)kpar_colour_of(keys[v], rel, bound0, nth);
+        col[v] = (uint8_t)kpar_colour_of((keys[v] << sh) & KPAR_KEY_MASK, rel, bound0, nth);
     }
 
     int status = GTET_OK;  /* the first error of any thread (a gtet_status) */

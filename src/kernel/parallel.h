@@ -10,7 +10,11 @@ typedef struct kpar {
     kctx *ctx;          /* one per thread */
     int threads;
     uint8_t *colour;    /* per vertex, valid during a pass */
-    uint64_t *keys;     /* per vertex, Moore keys on the tight box (computed once) */
+    uint64_t *keys;     /* per vertex, Moore keys of the first two passes of a round: the
+                         * BRIO's (key_shift = 63 - 3 bits: its keys are prefixes of 21-bit
+                         * ones) or, when the BRIO gave none, on the tight box with 21 bits
+                         * (computed once, key_shift 0); kpar_key */
+    int key_shift;
     int have_keys;
     int own3;           /* passes use three-of-four ownership (after a failed pass, kpar_round) */
     uint64_t *skeys;    /* per vertex in the mesh, keys on a later pass's shifted box */
@@ -37,7 +41,9 @@ static inline int kpar_colour_of(uint64_t key, const uint64_t rel[], uint64_t bo
     return c;
 }
 
-gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads);
+/* keys: NULL, or the BRIO's keys of the vertices in internal order with key_bits bits per
+ * axis (sort_brio_keys), which P then owns (kpar_free frees them, also after a failure). */
+gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys, int key_bits);
 void kpar_free(kpar *P);
 
 /* Insert the points pts[0..np) (a BRIO round; the array is reordered) with up to P->threads

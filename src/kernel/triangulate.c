@@ -89,8 +89,18 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     for (size_t i = 0; i < nv; i++) order[i] = (uint32_t)i;
     size_t round_end[64];
     int nrounds = 0;
-    s = sort_brio(res->vertices, 3, order, nv, BRIO_SEED, BRIO_FIRST, BRIO_RATIO, round_end,
-                  &nrounds, threads);
+    /* with threads, the BRIO's Moore keys also colour the vertices (kpar_init), unless some
+     * cells held so many points that the BRIO had to refine them: the keys are then too
+     * coarse to cut the set into slices, and the kernel computes its own */
+    uint64_t *bkeys = NULL;
+    int bbits = 0;
+    size_t refined = 0;
+    s = sort_brio_keys(res->vertices, 3, order, nv, BRIO_SEED, BRIO_FIRST, BRIO_RATIO, round_end,
+                       &nrounds, threads, threads > 1 ? &bkeys : NULL, &bbits, &refined);
+    if (refined) {
+        free(bkeys);
+        bkeys = NULL;
+    }
     if (s != GTET_OK) {
         free(order);
         gtet_mesh_free(&res);
@@ -101,6 +111,7 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     size_t pos[4];
     s = kval_first_simplex(res->vertices, order, nv, pos, &cnt0, err);
     if (s != GTET_OK) {
+        free(bkeys);
         free(order);
         gtet_mesh_free(&res);
         return s;
@@ -109,6 +120,7 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     size_t hint = 7 * nv + 64;
     if (hint > KM_MAX_SLOTS) {
         if (nv > KM_MAX_SLOTS / 7) {
+            free(bkeys);
             free(order);
             gtet_mesh_free(&res);
             kval_error(err, GTET_ERR_TOO_LARGE, SIZE_MAX, -1,
@@ -123,6 +135,7 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     double *sv = malloc((nv ? 3 * nv : 3) * sizeof *sv);
     uint32_t *ids = malloc((nv ? nv : 1) * sizeof *ids);
     if (!sv || !ids) {
+        free(bkeys);
         free(sv);
         free(ids);
         free(order);
@@ -141,7 +154,11 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     memset(&P, 0, sizeof P);
     if (!ctx) s = GTET_ERR_OUT_OF_MEMORY;
     for (int k = 0; ctx && k < threads; k++) kctx_init(&ctx[k], &m, (uint64_t)k + 1);
-    if (s == GTET_OK) s = kpar_init(&P, &m, ctx, threads);
+    if (s == GTET_OK) {
+        s = kpar_init(&P, &m, ctx, threads, bkeys, bbits);  /* owns bkeys from here */
+    } else {
+        free(bkeys);
+    }
     if (s == GTET_OK)
         s = km_first_tet(&ctx[0], (uint32_t)pos[0], (uint32_t)pos[1], (uint32_t)pos[2],
                          (uint32_t)pos[3]);
