@@ -419,17 +419,21 @@ static void test_brio_keys_are_the_moore_keys_on_the_sets_box(void)
         TEST_REQUIRE(p && ids && ref && want, "out of memory");
         shape_points(p, N, kind);
         size_t end[64], end2[64], refined = 12345;
+        double crowd = -1;
         int rounds, rounds2, bits = 0;
         uint64_t *keys = NULL;
         TEST_REQUIRE(sort_brio(p, 4, ref, N, 8, 700, 6, end, &rounds, 1) == GTET_OK, "failed");
         TEST_REQUIRE(sort_brio_keys(p, 4, ids, N, 8, 700, 6, end2, &rounds2, 2, &keys, &bits,
-                                    &refined) == GTET_OK && keys,
+                                    &refined, &crowd) == GTET_OK && keys,
                      "sort_brio_keys failed");
         TEST_CHECK(rounds2 == rounds && memcmp(ids, ref, N * sizeof *ids) == 0,
                    "sort_brio_keys orders differently from sort_brio");
         TEST_CHECK(bits == sort_brio_bits(N), "bits %d", bits);
         TEST_CHECK(kind == 0 ? refined == 0 : refined >= N - 1 - N / 700,
                    "kind %d: %zu points refined", kind, refined);
+        /* uniform: about 1/512 point per cell; a far point: the rest of each round in one */
+        TEST_CHECK(kind == 0 ? crowd > 0 && crowd < 0.01 : crowd > 0.99, "kind %d: crowd %g",
+                   kind, crowd);
         double box[6];
         sort_bbox(p, 4, ids, N, box, 1);
         sort_moore_keys_ids(p, 4, ids, N, box, bits, want, 1);

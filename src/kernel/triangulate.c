@@ -89,15 +89,18 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     for (size_t i = 0; i < nv; i++) order[i] = (uint32_t)i;
     size_t round_end[64];
     int nrounds = 0;
-    /* with threads, the BRIO's Moore keys also colour the vertices (kpar_init), unless some
-     * cells held so many points that the BRIO had to refine them: the keys are then too
-     * coarse to cut the set into slices, and the kernel computes its own */
+    /* with threads, the BRIO's Moore keys also colour the vertices (kpar_init), unless one
+     * cell holds more than a quarter of a slice of some round (one point far away, heavy
+     * tails): the keys cannot cut such a round evenly, and the kernel keys the tight box with
+     * 21 bits instead (1M points + one at 10^6, -t 2: 1.45 s against 2.29 with the BRIO's
+     * keys; ten Gaussian clusters of 10^-9..1 keep them, 10% per cell: 1.86 s against 2.15;
+     * NOTES.md 2026-11-24) */
     uint64_t *bkeys = NULL;
     int bbits = 0;
-    size_t refined = 0;
+    double crowd = 0.0;
     s = sort_brio_keys(res->vertices, 3, order, nv, BRIO_SEED, BRIO_FIRST, BRIO_RATIO, round_end,
-                       &nrounds, threads, threads > 1 ? &bkeys : NULL, &bbits, &refined);
-    if (refined) {
+                       &nrounds, threads, threads > 1 ? &bkeys : NULL, &bbits, NULL, &crowd);
+    if (crowd > 0.25 / threads) {
         free(bkeys);
         bkeys = NULL;
     }

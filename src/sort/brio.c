@@ -42,6 +42,7 @@
 #define BRIO_SELECT_BITS 12
 #define BRIO_SELECT_SIZE (1u << BRIO_SELECT_BITS)
 #define BRIO_REFINE_MIN 32   /* longer runs of equal keys are sorted on their own box */
+#define BRIO_CROWD_MIN 4096   /* rounds this large count for sort_brio_keys' crowd_out */
 #define BRIO_REFINE_DEPTH 32 /* levels of that (each shrinks the box by 2^5 or more per axis) */
 
 int sort_brio_bits(size_t m)
@@ -208,14 +209,16 @@ gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n,
                       int threads)
 {
     return sort_brio_keys(xyz, stride, ids, n, seed, first, ratio, round_end, num_rounds,
-                          threads, NULL, NULL, NULL);
+                          threads, NULL, NULL, NULL, NULL);
 }
 
 gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size_t n,
                            uint64_t seed, size_t first, double ratio, size_t round_end[64],
                            int *num_rounds, int threads, uint64_t **keys_out, int *key_bits_out,
-                           size_t *refined_out)
+                           size_t *refined_out, double *crowd_out)
 {
+    if (crowd_out)
+        *crowd_out = 0.0;
     if (keys_out)
         *keys_out = NULL;
     if (refined_out)
@@ -274,10 +277,15 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
     /* 4. runs of equal keys into hash order, the long ones refined (keys[i..j) is scratch
      * once the run is found, and gets the run's key back) */
     size_t refined = 0;
+    double crowd = 0.0;
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
         while (j < n && keys[j] == keys[i])
             j++;
+        const int r = (int)(keys[i] >> (3 * kbits));
+        const size_t rsize = end[r] - (r ? end[r - 1] : 0);
+        if (rsize >= BRIO_CROWD_MIN && (double)(j - i) / (double)rsize > crowd)
+            crowd = (double)(j - i) / (double)rsize;
         if (j - i > 1) {
             const uint64_t run_key = keys[i];
             for (size_t u = i; u < j; u++)
@@ -294,6 +302,8 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
     }
     if (refined_out)
         *refined_out = refined;
+    if (crowd_out)
+        *crowd_out = crowd;
     for (int r = 0; r < rounds; r++)
         round_end[r] = end[r];
     *num_rounds = rounds;

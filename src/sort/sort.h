@@ -87,13 +87,16 @@ gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n,
  * b = *key_bits_out = sort_brio_bits(n), the low 3b bits of (*keys_out)[i] are the Moore key of
  * the point ids[i] (after sorting) on the box of all n points with b bits per axis, and the
  * bits above them its round number; so the keys do not decrease along the order.  The memory
- * is sort_brio's own key array (8 bytes per point), kept instead of freed.  *refined_out (when
- * not NULL): the number of points in runs that were refined -- 0 when every Moore cell of the
- * box held at most 32 points of a round, i.e. when the keys alone order the set finely. */
+ * is sort_brio's own key array (8 bytes per point), kept instead of freed.  When not NULL:
+ * *refined_out is the number of points in runs that were refined -- 0 when every Moore cell of
+ * the box held at most 32 points of a round, i.e. when the keys alone order the set finely;
+ * *crowd_out is the largest share of a round's points that one key holds, over the rounds of at
+ * least 4096 points (0 when there is none) -- how finely the keys can cut a round into
+ * slices: a share above 1/k leaves one of k slices more than its part. */
 gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size_t n,
                            uint64_t seed, size_t first, double ratio, size_t round_end[64],
                            int *num_rounds, int threads, uint64_t **keys_out,
-                           int *key_bits_out, size_t *refined_out);
+                           int *key_bits_out, size_t *refined_out, double *crowd_out);
 
 /* Addition: bits per axis of the Moore keys of a BRIO round of m points:
  * ceil(log2(m) / 3) + 3, between 1 and 21 (about 64 to 512 cells per point: enough to order
