@@ -32,7 +32,8 @@ static void test_every_kind_is_finite_and_reproducible_from_its_seed(void)
         for (size_t i = 0; i < 3 * m1; i++) TEST_CHECK(isfinite(a[i]), "%s: non-finite", *k);
         TEST_CHECK(io_generator_help(*k) != NULL, "%s has no help", *k);
         int random = !strcmp(*k, "uniform") || !strcmp(*k, "ball") || !strcmp(*k, "sphere") ||
-                     !strcmp(*k, "jittered") || !strcmp(*k, "clustered");
+                     !strcmp(*k, "jittered") || !strcmp(*k, "clustered") ||
+                     !strcmp(*k, "far-point") || !strcmp(*k, "cauchy");
         if (random)
             TEST_CHECK(m1 != m3 || memcmp(a, c, 3 * m1 * sizeof(double)) != 0,
                        "%s ignores its seed", *k);
@@ -65,6 +66,21 @@ static void test_random_kinds_give_exactly_n_points_in_their_domains(void)
     free(p);
     p = gen("clustered", 3000, 1, &m);
     TEST_CHECK(p && m == 3000, "clustered count");
+    free(p);
+    p = gen("far-point", 3000, 1, &m);
+    TEST_REQUIRE(p && m == 3000, "far-point count");
+    for (size_t i = 0; i + 3 < 3 * m; i++) TEST_CHECK(p[i] >= 0 && p[i] < 1, "far-point bulk");
+    TEST_CHECK(p[3 * m - 3] == 1e6 && p[3 * m - 2] == 1e6 && p[3 * m - 1] == 1e6, "far point");
+    free(p);
+    p = gen("cauchy", 20000, 1, &m);
+    TEST_REQUIRE(p && m == 20000, "cauchy count");
+    size_t tail = 0, inner = 0;  /* P(|X| > 100) = 0.64%, P(|X| < 1) = 50% */
+    for (size_t i = 0; i < 3 * m; i++) {
+        tail += fabs(p[i]) > 100;
+        inner += fabs(p[i]) < 1;
+    }
+    TEST_CHECK(tail > 200 && tail < 600 && inner > 28000 && inner < 32000,
+               "cauchy: %zu of 60000 beyond 100, %zu within 1", tail, inner);
     free(p);
 }
 

@@ -27,6 +27,10 @@
  *   plane-apex-denormal   the same with the apex at height 2^-1074 (the smallest denormal)
  *   clustered    n points in 1 + n/1000 Gaussian clusters (sigma 0.01) with centres uniform
  *                in [0,1)^3
+ *   far-point    n-1 points uniform in [0,1)^3 and one at (10^6, 10^6, 10^6): every other point
+ *                in one Moore cell of the bounding box (the BRIO's refinement, src/sort/brio.c)
+ *   cauchy       n points with Cauchy-distributed coordinates (a ratio of two Gaussians):
+ *                heavy tails, a bounding box some 10^5 times the bulk's
  */
 #include "io_internal.h"
 
@@ -36,7 +40,8 @@
 
 static const char *const kinds[] = {"uniform", "ball", "sphere", "grid", "jittered",
                                     "cospherical", "paraboloid", "fcc", "bcc", "plane-apex",
-                                    "plane-apex-denormal", "clustered", NULL};
+                                    "plane-apex-denormal", "clustered", "far-point", "cauchy",
+                                    NULL};
 static const char *const helps[] = {
     "uniform in the unit cube [0,1)^3",
     "uniform in the unit ball",
@@ -50,6 +55,8 @@ static const char *const helps[] = {
     "N-1 points on the plane z = 0 plus the apex (0.5, 0.5, 1)",
     "N-1 points on the plane z = 0 plus an apex at height 2^-1074",
     "Gaussian clusters (sigma 0.01), 1 + N/1000 of them",
+    "N-1 points uniform in [0,1)^3 plus one at (10^6, 10^6, 10^6)",
+    "Cauchy-distributed coordinates (heavy tails)",
 };
 
 const char *const *io_generator_kinds(void) { return kinds; }
@@ -242,6 +249,15 @@ io_status io_generate(const char *kind, size_t n, uint64_t seed, double **xyz, s
         a[3 * (m - 1)] = 0.5;
         a[3 * (m - 1) + 1] = 0.5;
         a[3 * (m - 1) + 2] = strlen(name) > 10 ? 0x1p-1074 : 1.0;
+    } else if (!strcmp(name, "far-point")) {
+        for (size_t i = 0; i < 3 * (m - 1); i++) a[i] = uniform(&r);
+        for (int d = 0; d < 3; d++) a[3 * (m - 1) + (size_t)d] = 1e6;
+    } else if (!strcmp(name, "cauchy")) {
+        for (size_t i = 0; i < 3 * m; i++) {
+            double den;
+            do den = gauss(&r); while (den == 0.0);
+            a[i] = gauss(&r) / den;
+        }
     } else { /* clustered */
         size_t nc = 1 + m / 1000;
         double *ctr = malloc(nc * 3 * sizeof(double));

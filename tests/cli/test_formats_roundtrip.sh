@@ -90,7 +90,7 @@ expect 0 "" -- "$G" check dups.ele --points dups.xyz
 # the degenerate families of the generator, triangulated, checked against their input; the
 # O(n*m) --full empty-sphere test only on the small ones (it costs seconds at 300 points)
 for k in grid:64 jittered:64 cospherical:100 paraboloid:49 fcc:100 bcc:100 plane-apex:60 \
-         plane-apex-denormal:60 clustered:300 sphere:200 uniform:200; do
+         plane-apex-denormal:60 clustered:300 sphere:200 uniform:200 far-point:300 cauchy:300; do
     kind=${k%%:*} n=${k##*:} full=
     [ "$n" -le 64 ] && full=--full
     expect 0 "" -- "$G" generate "$kind" "$n" -o "$kind.bin" -q
