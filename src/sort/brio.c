@@ -17,7 +17,7 @@
  *      threshold rank;
  *   2. a point's round is the first r whose threshold is >= its hash (hashes are distinct:
  *      the hash is a bijection of the id, and ids are distinct), which is exactly its round
- *      in the hash order; the bounding box is accumulated in the same pass;
+ *      in the hash order; then the bounding box of all the points (sort_bbox);
  *   3. key = round << S | Moore key on the box (S = 3 * bits), and one stable radix sort of all
  *      (key, id) pairs puts the rounds in order, each in Moore order;
  *   4. equal keys (points of one Moore cell) are then put in hash order: a run of equal keys
@@ -143,35 +143,17 @@ static gtet_status select_ranks(const uint64_t *h, size_t n, const size_t *rank,
     return GTET_OK;
 }
 
-/* Round of each point (round[i]) and the bounding box of all the points, in input order. */
-static void rounds_and_box(const double *xyz, size_t stride, const uint32_t *ids,
-                           const uint64_t *h, size_t n, const uint64_t *thr, int rounds,
-                           uint8_t *round, double box[6], int threads)
+/* Round of each point (round[i]), in input order. */
+static void rounds_of(const uint64_t *h, size_t n, const uint64_t *thr, int rounds,
+                      uint8_t *round, int threads)
 {
-    double x0 = INFINITY, y0 = INFINITY, z0 = INFINITY;
-    double x1 = -INFINITY, y1 = -INFINITY, z1 = -INFINITY;
     const int nt = (threads > 1 && n >= BRIO_PARALLEL_MIN) ? threads : 1;
-#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1) \
-    reduction(min : x0, y0, z0) reduction(max : x1, y1, z1)
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
     for (size_t i = 0; i < n; i++) {
         int r = rounds - 1;
         while (r > 0 && h[i] <= thr[r - 1])
             r--;
         round[i] = (uint8_t)r;
-        const double *p = xyz + (size_t)ids[i] * stride;
-        if (p[0] < x0) x0 = p[0];
-        if (p[1] < y0) y0 = p[1];
-        if (p[2] < z0) z0 = p[2];
-        if (p[0] > x1) x1 = p[0];
-        if (p[1] > y1) y1 = p[1];
-        if (p[2] > z1) z1 = p[2];
-    }
-    /* as sort_bbox: -0.0 -> +0.0 (min/max are exact, only a zero's sign could vary) */
-    const double lo[3] = {x0, y0, z0}, hi[3] = {x1, y1, z1};
-    for (int a = 0; a < 3; a++) {
-        const int empty = !(lo[a] <= hi[a]);
-        box[a] = empty ? 0.0 : lo[a] + 0.0;
-        box[a + 3] = empty ? 0.0 : hi[a] + 0.0;
     }
 }
 
@@ -262,7 +244,8 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
     double box[BRIO_MAX_ROUNDS][6];
     int bits[BRIO_MAX_ROUNDS];
     const int kbits = sort_brio_bits(n);
-    rounds_and_box(xyz, stride, ids, tk, n, thr, rounds, round, box[0], threads);
+    rounds_of(tk, n, thr, rounds, round, threads);
+    sort_bbox(xyz, stride, ids, n, box[0], threads);
     for (int r = 0; r < rounds; r++) {
         memcpy(box[r], box[0], sizeof box[0]);
         bits[r] = kbits;
