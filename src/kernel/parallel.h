@@ -13,7 +13,8 @@ typedef struct kpar {
     uint64_t *keys;     /* per vertex, Moore keys of the first two passes of a round: the
                          * BRIO's (key_shift = 63 - 3 bits: its keys are prefixes of 21-bit
                          * ones) or, when the BRIO gave none, on the tight box with 21 bits
-                         * (computed once, key_shift 0); kpar_key */
+                         * (computed once, key_shift 0); a vertex's 63-bit key is
+                         * (keys[v] << key_shift) & KPAR_KEY_MASK (pass_parallel) */
     int key_shift;
     int have_keys;
     int own3;           /* passes use three-of-four ownership (after a failed pass, kpar_round) */
