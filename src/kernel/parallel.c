@@ -11,12 +11,13 @@
  * in); vertices of later rounds are never read.  Thread k inserts the points of slice k, and an
  * insertion goes ahead only if the walk and every tet of the cavity stay within tets of
  * thread k (all four vertices of colour k, or three once the run has switched: km_owned;
- * km_insert defers the point otherwise, having written nothing).  proofs/parallel.md shows that two threads then never write, or write and
- * read, the same memory: no tet is two threads', a tet next to one of thread k's is no other
- * thread's, and the only tets two threads both write are outer neighbours, in different
- * neighbour slots.  Three of four, not four of four (until 2026-11-24): a vertex every tet
- * shares -- the apex over a plane, a far outlier -- no longer stops every other thread.  Fresh slots come from per-thread blocks claimed
- * with one atomic capture; the arrays grow only between passes.
+ * km_insert defers the point otherwise, having written nothing).  proofs/parallel.md shows
+ * that two threads then never write, or write and read, the same memory: no tet is two
+ * threads', a tet next to one of thread k's is no other thread's, and the only tets two
+ * threads both write are outer neighbours, in different neighbour slots.  Three of four, not
+ * four of four (until 2026-11-24): a vertex every tet shares -- the apex over a plane, a far
+ * outlier -- no longer stops every other thread.  Fresh slots come from per-thread blocks
+ * claimed with one atomic capture; the arrays grow only between passes.
  *
  * Adaptive, as in paper §4.2, with alpha = inserted / pending points of the pass, n threads:
  *   alpha <= 1/n       -> the rest of the round is inserted sequentially,

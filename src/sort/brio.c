@@ -241,20 +241,15 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
         goto out;
 
     /* 2. rounds and the box; 3. keys and one stable sort */
-    double box[BRIO_MAX_ROUNDS][6];
-    int bits[BRIO_MAX_ROUNDS];
+    double box[6];
     const int kbits = sort_brio_bits(n);
     rounds_of(tk, n, thr, rounds, round, threads);
-    sort_bbox(xyz, stride, ids, n, box[0], threads);
-    for (int r = 0; r < rounds; r++) {
-        memcpy(box[r], box[0], sizeof box[0]);
-        bits[r] = kbits;
-    }
+    sort_bbox(xyz, stride, ids, n, box, threads);
     int rbits = 0;
     while ((1 << rbits) < rounds)
         rbits++;
-    sort_moore_keys_rounds(xyz, stride, ids, n, round, rounds, (const double (*)[6])box, bits,
-                           3 * kbits, keys, threads);
+    sort_moore_keys_rounds(xyz, stride, ids, n, round, rounds, box, kbits, 3 * kbits, keys,
+                           threads);
     sort_radix_pairs(keys, ids, n, 3 * kbits + rbits, tk, ti, threads);
 
     /* 4. runs of equal keys into hash order, the long ones refined (keys[i..j) is scratch

@@ -243,16 +243,17 @@ static void keys_common(const double *xyz, size_t stride, const uint32_t *ids, s
 }
 
 void sort_moore_keys_rounds(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
-                            const uint8_t *round, int num_rounds, const double (*boxes)[6],
-                            const int *bits, int round_shift, uint64_t *keys, int threads)
+                            const uint8_t *round, int num_rounds, const double bbox[6], int bits,
+                            int round_shift, uint64_t *keys, int threads)
 {
+    /* keys_blocks looks the map up by round; every round has the same one */
     key_map km[64];
     if (num_rounds > 64)
         num_rounds = 64;
-    for (int r = 0; r < num_rounds; r++) {
-        const int b = bits[r] < 1 ? 1 : bits[r] > MOORE_MAX_BITS ? MOORE_MAX_BITS : bits[r];
-        km[r] = key_map_setup(boxes[r], b);
-    }
+    const int b = bits < 1 ? 1 : bits > MOORE_MAX_BITS ? MOORE_MAX_BITS : bits;
+    km[0] = key_map_setup(bbox, b);
+    for (int r = 1; r < num_rounds; r++)
+        km[r] = km[0];
     const int nt = (threads > 1 && n >= MOORE_PARALLEL_MIN) ? threads : 1;
     keys_blocks(xyz, stride, ids, n, round, km, round_shift, keys, nt);
 }
