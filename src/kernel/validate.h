@@ -23,6 +23,12 @@ gtet_status kval_finite(const double *xyz, size_t n, int threads, gtet_error *er
 gtet_status kval_dedup(const double *xyz, size_t n, int threads, double **verts, uint32_t **map,
                        size_t *nv, gtet_error *err);
 
+/* kval_dedup's method from 65536 points on (validate.c: buckets by hash, one small table per
+ * bucket), on T >= 1 threads; exposed for the tests, which compare it with the single table
+ * kval_dedup uses below that size. */
+gtet_status kval_dedup_partitioned(const double *xyz, size_t n, int T, double **verts,
+                                   uint32_t **map, size_t *nv, gtet_error *err);
+
 /* Find four affinely independent vertices, scanning ids in the given order: the first vertex,
  * the first one different from it, the first not collinear with those, the first not coplanar
  * with those three.  Returns their positions in order[] (pos[0] == 0) and GTET_OK, or
