@@ -14,7 +14,10 @@
 #   hxt1 hxt2  HXT via Debian's libgmsh: tetrahedralize() with Mesh.Algorithm3D = 10
 #   gigatet1 gigatet2   build/gigatet triangulate FILE.bin -t T --stats
 # Runs are interleaved: for each repetition, every input, every tool -- so a slow phase of the
-# (shared) machine hits all tools alike.  Seconds are each tool's own timing of the meshing
+# (shared) machine hits all tools alike -- and each repetition runs the tools in its own order
+# (a shuffle seeded by the repetition's number, printed in the log): a run is slowed by some
+# predecessors (2-thread gigatet on u4M: 3.63-3.79 s right after hxt2, 3.39-3.52 s after a
+# pause; NOTES.md 2026-11-25), so a fixed order would tax the same tool every time.  Seconds are each tool's own timing of the meshing
 # (file reading excluded), both wall and process CPU time (all threads): on this shared
 # machine the other agents' load inflates wall time, and CPU time is the fairer figure for a
 # one-thread run; TetGen reports only CPU time (clock()).  gigatet: its --stats total (else
@@ -128,8 +131,11 @@ trap 'rm -rf "$tmp"' EXIT
 printf 'tool\tinput\trun\tseconds\tcpu\ttets\trss_kb\twall\tnote\n' > "$raw"
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 for ((r = 1; r <= runs; r++)); do
+  # shellcheck disable=SC2086
+  order=$(python3 -c 'import random, sys; t = sys.argv[2:]; random.Random(int(sys.argv[1])).shuffle(t); print(" ".join(t))' "$r" $active)
+  echo "bench: run $r order: $order" >&2
   for in in $inputs; do
-    for t in $active; do
+    for t in $order; do
       tool_cmd "$t" "$in"
       set +e
       ( ulimit -v "$mem_kb"; cd "$tmp" && exec /usr/bin/time -f '%M %e %U %S' -o "$tmp/time" \
