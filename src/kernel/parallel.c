@@ -362,6 +362,8 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
     if (nth > 255) nth = 255;
     unsigned pass = 0;
     size_t nmesh = 0;  /* after this round the mesh holds the vertices 0..nmesh-1 */
+#pragma omp parallel for num_threads(nth) schedule(static) reduction(max : nmesh) \
+    if (nth > 1 && np > 65536)
     for (size_t i = 0; i < np; i++)
         if (pts[i] >= nmesh) nmesh = (size_t)pts[i] + 1;
     if (np > P->cap_pending) {

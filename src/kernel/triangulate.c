@@ -86,6 +86,7 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
         gtet_mesh_free(&res);
         return fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the insertion order");
     }
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nv > 65536)
     for (size_t i = 0; i < nv; i++) order[i] = (uint32_t)i;
     size_t round_end[64];
     int nrounds = 0;
@@ -165,14 +166,17 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     if (s == GTET_OK)
         s = km_first_tet(&ctx[0], (uint32_t)pos[0], (uint32_t)pos[1], (uint32_t)pos[2],
                          (uint32_t)pos[3]);
-    /* the rounds, without the four vertices of the first tet */
-    size_t w = 0, r = 0;
+    /* the rounds, without the four vertices of the first tet: position i moves down by the
+     * number of those before it (a round's end likewise) */
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nv > 65536)
     for (size_t i = 0; i < nv; i++) {
-        while (r < (size_t)nrounds && i == round_end[r]) round_end[r++] = w;
         if (i == pos[0] || i == pos[1] || i == pos[2] || i == pos[3]) continue;
-        ids[w++] = (uint32_t)i;
+        ids[i - (size_t)((pos[0] < i) + (pos[1] < i) + (pos[2] < i) + (pos[3] < i))] = (uint32_t)i;
     }
-    while (r < (size_t)nrounds) round_end[r++] = w;
+    for (int r = 0; r < nrounds; r++) {
+        const size_t e = round_end[r];
+        round_end[r] = e - (size_t)((pos[0] < e) + (pos[1] < e) + (pos[2] < e) + (pos[3] < e));
+    }
     res->rounds = calloc((size_t)(nrounds > 0 ? nrounds : 1), sizeof *res->rounds);
     if (!res->rounds && s == GTET_OK) s = GTET_ERR_OUT_OF_MEMORY;
     P.progress = opts.progress;
