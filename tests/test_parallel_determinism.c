@@ -443,6 +443,38 @@ static void test_a_vertex_in_every_tet_does_not_stop_the_other_threads(void)
     free(p);
 }
 
+/* Half the points uniform in the unit cube, half in the cube [0.5, 0.5 + 10^-3)^3, which lies
+ * inside one Delaunay cell of the sparse half.  With 2 threads the last round's slice boundary
+ * crosses the small cube, and each thread's slice starts far from where its last insertion
+ * ended: a walk from there left the thread's colour, deferred the point and, starting again
+ * from the same tet, every next one, until the thread gave up on its slice (this set: the
+ * last round's first pass inserted 0.424 of its points in three runs of three; the start
+ * tets are now located by walking to the slice's first points before the pass: find_start
+ * in parallel.c).  Specification: the same tets for every thread count and order; with 2
+ * threads the last round's first pass inserts more than 0.6 of its points (0.735 now).  The
+ * sanitized builds, at 40k points, check the tets only (a smaller set did not show the
+ * failure every time: 100k points, 0.33 in one run of five). */
+static void test_a_dense_cluster_inside_one_cell_keeps_both_threads_inserting(void)
+{
+    const size_t n = N_RANDOM;
+    double *p = uniform(n, 4242);
+    TEST_REQUIRE(p != NULL, "out of memory");
+    for (size_t i = n / 2; i < n; i++)
+        for (int d = 0; d < 3; d++) p[3 * i + (size_t)d] = 0.5 + 1e-3 * p[3 * i + (size_t)d];
+    same_tets_for_every_thread_count_and_order("uniform + dense cube", p, n);
+#ifndef GTET_TEST_SANITIZED
+    gtet_stats st;
+    gtet_mesh *m = with_two_threads(p, n, &st);
+    TEST_REQUIRE(m != NULL, "uniform + dense cube fails");
+    const gtet_round_stats *last = &st.rounds[st.num_rounds - 1];
+    TEST_CHECK(last->threads == 2 && last->alpha_first > 0.6,
+               "last round (%llu points, %d threads): the first pass inserted %.3f of them",
+               (unsigned long long)last->points, last->threads, last->alpha_first);
+    gtet_mesh_free(&m);
+#endif
+    free(p);
+}
+
 /* Points on a paraboloid (`gigatet generate paraboloid`): the cavities reach across the whole
  * set, no parallel insertion succeeds (alpha 0.001) and the round goes serial.  Before
  * 2026-11-24 every point was first walked and rolled back in a doomed parallel pass (1M
@@ -487,5 +519,6 @@ int main(void)
     TU_RUN(test_duplicates_are_mapped_the_same_way_for_every_thread_count);
     TU_RUN(test_a_vertex_in_every_tet_does_not_stop_the_other_threads);
     TU_RUN(test_a_pass_where_every_point_fails_gives_up_early);
+    TU_RUN(test_a_dense_cluster_inside_one_cell_keeps_both_threads_inserting);
     return tu_finish();
 }

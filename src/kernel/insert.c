@@ -163,8 +163,8 @@ static gtet_status scan_for_conflict(kctx *c, const double *p, uint32_t *found)
 /* Visibility walk from c->last to a tet in conflict with p.  In a parallel pass it never
  * enters a tet that is not this thread's (km_owned; *found = UINT32_MAX: defer), and it gives
  * up instead of scanning when the step budget runs out (a scan would read other threads'
- * tets). */
-static gtet_status walk(kctx *c, const double *p, uint32_t *found)
+ * tets); so does it when may_scan is 0 (km_locate). */
+static gtet_status walk(kctx *c, const double *p, uint32_t *found, int may_scan)
 {
     const kmesh *m = c->m;
     uint32_t t = c->last;
@@ -214,11 +214,21 @@ static gtet_status walk(kctx *c, const double *p, uint32_t *found)
         }
     }
     c->walk_steps += budget;
-    if (c->colour) {
+    if (c->colour || !may_scan) {
         *found = UINT32_MAX;
         return GTET_OK;
     }
     return scan_for_conflict(c, p, found);
+}
+
+uint32_t km_locate(kctx *c, const double *p)
+{
+    const uint8_t *colour = c->colour;
+    c->colour = NULL;  /* every tet may be crossed: nothing is written */
+    uint32_t t = UINT32_MAX;
+    if (walk(c, p, &t, 0) != GTET_OK) t = UINT32_MAX;
+    c->colour = colour;
+    return t;
 }
 
 /* Move the rest of this thread's block of fresh slots to its free list, marked deleted so
@@ -450,7 +460,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     const double *p = km_pt(m, pid);
     uint32_t t0;
     *deferred = 0;
-    gtet_status s = walk(c, p, &t0);
+    gtet_status s = walk(c, p, &t0, 1);
     if (s != GTET_OK) return s;
     if (t0 == UINT32_MAX) {
         c->conflicts++;

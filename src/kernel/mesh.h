@@ -104,6 +104,12 @@ gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t 
  * slot is left: *deferred = 1. */
 gtet_status km_insert(kctx *c, uint32_t p, int *deferred);
 
+/* The tet in conflict with p that a visibility walk from c->last (a live tet) finds,
+ * crossing any tet (c->colour is ignored), or UINT32_MAX when the walk's step budget runs out
+ * (no scan).  Reads the mesh and writes only c's own counters and generator: a parallel pass
+ * calls it before its barrier, while no thread writes the mesh (find_start in parallel.c). */
+uint32_t km_locate(kctx *c, const double *p);
+
 /* End of a parallel pass: the unused fresh slots of this thread go to its free list. */
 gtet_status km_flush_block(kctx *c);
 
