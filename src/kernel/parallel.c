@@ -157,6 +157,22 @@ static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np)
     return GTET_OK;
 }
 
+/* c->last = the first live tet (this thread's, if `owned`) scanning the slots cyclically from
+ * `from`; 0 if there is none. */
+static int scan_start(kctx *c, size_t from, int owned)
+{
+    const kmesh *m = c->m;
+    const size_t nt = m->nt;
+    for (size_t k = 0; k < nt; k++) {
+        const size_t t = (from + k) % nt;
+        if (!km_dead(m, t) && (!owned || km_owned(c, (uint32_t)t))) {
+            c->last = (uint32_t)t;
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* A live tet of this thread's colour to start walking from.  First the tet in conflict with
  * one of the slice's first START_TRIES points that is this thread's (km_locate, each walk
  * from the last tet found): a slice rarely starts where the thread's last one ended, and a
@@ -171,16 +187,9 @@ static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np)
 static int find_start(kctx *c, int nthreads, const uint32_t *pts, size_t np)
 {
     const kmesh *m = c->m;
-    const size_t nt = m->nt, from = nt / (size_t)nthreads * c->mine;
-    if (!(c->last < nt && !km_dead(m, c->last)))
-        for (size_t k = 0; k < nt; k++) {
-            const size_t t = (from + k) % nt;
-            if (!km_dead(m, t)) {
-                c->last = (uint32_t)t;
-                break;
-            }
-        }
-    if (c->last < nt && !km_dead(m, c->last)) {
+    const size_t from = m->nt / (size_t)nthreads * c->mine;
+    const int live = (c->last < m->nt && !km_dead(m, c->last)) || scan_start(c, from, 0);
+    if (live) {
         const uint32_t last = c->last;
         for (size_t i = 0; i < np && i < START_TRIES; i++) {
             const uint32_t t = km_locate(c, km_pt(m, pts[i]));
@@ -189,16 +198,9 @@ static int find_start(kctx *c, int nthreads, const uint32_t *pts, size_t np)
             if (km_owned(c, t)) return 1;
         }
         c->last = last;
+        if (km_owned(c, c->last)) return 1;
     }
-    if (c->last < nt && !km_dead(m, c->last) && km_owned(c, c->last)) return 1;
-    for (size_t k = 0; k < nt; k++) {
-        const size_t t = (from + k) % nt;
-        if (!km_dead(m, t) && km_owned(c, (uint32_t)t)) {
-            c->last = (uint32_t)t;
-            return 1;
-        }
-    }
-    return 0;
+    return scan_start(c, from, 1);
 }
 
 /* A key strictly after x and at most y, about halfway along the (looping) curve from x to y

@@ -3,8 +3,9 @@
  * Duplicates: open-addressing hash tables keyed by the coordinates' bit patterns, with -0.0
  * folded onto +0.0 before hashing and compared with ==, so two points are duplicates exactly
  * when their coordinates compare equal: one table below 65536 points, else one small table
- * per bucket of the hash (kval_dedup_partitioned).  The first occurrence becomes the vertex; every later
- * copy maps to it (nothing the user gave is lost: the map says where each point went).
+ * per bucket of the hash (kval_dedup_partitioned).  The first occurrence becomes the vertex;
+ * every later copy maps to it (nothing the user gave is lost: the map says where each point
+ * went).
  * Dimension: one linear scan with the exact predicates; no quartic search.
  */
 #include "validate.h"
@@ -132,8 +133,9 @@ static gtet_status dedup_serial(const double *xyz, size_t n, double **verts_out,
 /* The same by partitions, on T >= 1 threads, with the same result (vertex ids in order of
  * first occurrence).  The single table above is larger than the caches: every point costs a
  * miss on its slot and one on the coordinates of the vertex it finds there, and its threaded
- * form (a shared table filled by compare-and-swap, until 2026-11-25) was no faster on 2
- * threads than on one (4M points: 0.150 s serial, 0.118 s on 2; NOTES.md 2026-11-25).  Here:
+ * form (a shared table filled by compare-and-swap, until 2026-11-24) was little faster on
+ * 2 threads than on one (4M points: 0.150 s serial, 0.118 s on 2; NOTES.md 2026-11-24, third
+ * session).  Here:
  *   1. every thread counts the points of its contiguous chunk per bucket (the top `bits` bits
  *      of the hash), and after a prefix sum (bucket-major, then chunk order) writes each point
  *      as (low 32 bits of its hash << 32 | index) into its bucket: within a bucket the indices
