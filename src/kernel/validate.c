@@ -139,14 +139,15 @@ static gtet_status dedup_serial(const double *xyz, size_t n, double **verts_out,
  *   1. every thread counts the points of its contiguous chunk per bucket (the top `bits` bits
  *      of the hash), and after a prefix sum (bucket-major, then chunk order) writes each point
  *      as (low 32 bits of its hash << 32 | index) into its bucket: within a bucket the indices
- *      increase;
+ *      increase (the hash is computed in both loops rather than stored: a streaming read of
+ *      the coordinates is cheaper than 8 more bytes per point written and read back);
  *   2. the buckets (about DEDUP_BUCKET points each) are shared out between the threads; each
  *      is deduplicated with its own open-addressing table of twice its size, which with the
  *      bucket's entries fits in the cache, comparing hash tags first and coordinates only when
  *      the tags are equal; the first entry of a set of equal points has the smallest index, so
  *      every later one is marked a duplicate of it (dup, map = that index);
- *   3. as before: each chunk counts its first occurrences, a prefix sum numbers them in input
- *      order, each thread copies its own and gives them their ids;
+ *   3. each chunk counts its first occurrences, a prefix sum over the chunks numbers them in
+ *      input order, and each thread copies its chunk's and gives them their ids;
  *   4. after the barrier, a duplicate takes the id of its first occurrence (map[map[i]]).
  * The entries and the tables live in the output array of vertices, 24 bytes per point, which
  * they fill to 16 (8 + 2 x 4) and which step 3 overwrites after a barrier.  No atomics: the
