@@ -210,8 +210,13 @@ void gtet_mesh_stats(const gtet_mesh *mesh, gtet_stats *stats);
 
 enum {
     GTET_CHECK_FULL = 1u << 0,      /* add the O(n*m) empty-sphere test (small meshes only) */
-    GTET_CHECK_NO_FILTER = 1u << 1  /* every sign from the GMP oracle, without the checker's
+    GTET_CHECK_NO_FILTER = 1u << 1, /* every sign from the GMP oracle, without the checker's
                                        interval filter (slower; cross-checks the filter) */
+    GTET_CHECK_DELAUNAY = 1u << 2,  /* judge the Delaunay property itself, ties allowed (any
+                                       tool's Delaunay mesh passes), instead of the canonical
+                                       perturbed triangulation gigatet and CGAL build */
+    GTET_CHECK_ANY_ORIENTATION = 1u << 3  /* accept negatively oriented tets (counted in the
+                                             report); a flat tet still fails */
 };
 
 typedef struct gtet_check_report {
