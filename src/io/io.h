@@ -29,8 +29,32 @@
  *   Tets are written in the order of their vertices as given (gigatet's tets are positively
  *   oriented, which is the orientation TetGen, Gmsh and VTK use).
  *
- * Mesh reader (for `gigatet check`): .ele (+ the .node beside it), .msh (Gmsh 4.1 ASCII;
- * elements other than tetrahedra are skipped), .vtu (ASCII DataArrays, tetrahedra only).
+ * Mesh readers (for `gigatet check`, which judges meshes written by other tools too):
+ *   .ele   TetGen, with the .node beside it: 0- or 1-based (the .node's first id decides,
+ *          as after TetGen's -z), attribute and boundary-marker columns in the .node and
+ *          region-attribute columns in the .ele read and dropped, 4 or 10 nodes per tet (the
+ *          first 4, the corners, are kept).
+ *   .msh   Gmsh MSH 4.1 and 2.2 (2.0, 2.1 alike), ASCII or binary (little-endian; 4.1's
+ *          size_t fields 4 or 8 bytes as its $MeshFormat says).  $MeshFormat, $Nodes and
+ *          $Elements are read, $Entities and every other section skipped.  Node tags may be
+ *          sparse and unordered; parametric nodes' extra coordinates are dropped.  Elements
+ *          other than 4-node tetrahedra (type 4; 10-node ones, type 11, included) are
+ *          skipped and counted; in a binary block that needs the type's node count, and a
+ *          type without a known one is an error.
+ *   .vtu   VTK XML UnstructuredGrid, one Piece: DataArrays format="ascii", "binary" (inline
+ *          base64) or "appended" (<AppendedData encoding="raw" or "base64">), header_type
+ *          UInt32 or UInt64, uncompressed or compressor="vtkZLibDataCompressor" (LZ4 and
+ *          LZMA are refused by name), byte_order="LittleEndian" (BigEndian is refused).
+ *          Points Float32 or Float64; connectivity and offsets any integer type (offsets as
+ *          the NumberOfCells cell ends, or NumberOfCells+1 starts beginning with 0); types
+ *          any integer type.  Attribute order inside a tag does not matter.  Cells other than
+ *          VTK_TETRA (10) are skipped and counted; VTK_QUADRATIC_TETRA (24) is skipped too.
+ *   What every reader returns: distinct vertex arrays as in the file (unused vertices are
+ *   kept), tets as 4 vertex indices (range-checked, 0-based, in the file's orientation),
+ *   and the count of skipped cells.  Every malformed file fails with IO_ERR_INPUT and a
+ *   message naming the file and the line (text) or byte offset (binary); a claimed count is
+ *   checked against the bytes present (and zlib's largest expansion ratio) before anything
+ *   of its size is allocated.
  *
  * Generators: io_generate(kind, n, seed) with the kinds listed by io_generator_kinds();
  * reproducible (splitmix64 seeded by `seed`), no global state.
@@ -87,14 +111,21 @@ typedef struct io_mesh {
     size_t nv;
     uint32_t *tets;     /* 4*nt vertex ids, 0-based */
     size_t nt;
+    size_t skipped_cells;   /* cells that are not linear tetrahedra (.msh, .vtu), not read */
 } io_mesh;
 
 /* Write a tet mesh (.ele, .msh, .vtu), atomically (for .ele both files or neither). */
 io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
                         const uint32_t *tets, size_t nt, io_error *err);
 
-/* Read a tet mesh (.ele with its .node, .msh, .vtu).  Vertex ids are range-checked. */
+/* Read a tet mesh (.ele with its .node, .msh, .vtu; see the top of this file).  Vertex ids
+ * are range-checked.  On failure *mesh is zeroed. */
 io_status io_read_mesh(const char *path, io_mesh *mesh, io_error *err);
+/* The same readers on bytes in memory (any bytes: the fuzzers' entry point); `name` is only
+ * used in messages.  node_data / node_len are the .node file's bytes for IO_FMT_ELE and are
+ * ignored for the other formats. */
+io_status io_parse_mesh(io_format fmt, const char *name, const void *data, size_t len,
+                        const void *node_data, size_t node_len, io_mesh *mesh, io_error *err);
 void io_mesh_free(io_mesh *mesh);
 
 /* Fail early (IO_ERR_WRITE) when path cannot be created: creates and removes the temporary

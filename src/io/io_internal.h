@@ -57,6 +57,45 @@ io_status io_parse_ply(const char *name, const char *buf, size_t len, double **x
 io_status io_parse_bin(const char *name, const unsigned char *buf, size_t len, double **xyz,
                        size_t *n, io_error *err);
 
+/* ---- mesh parsers (read_ele.c, read_msh.c, read_vtu.c), on NUL-terminated buffers --------
+ * On failure they leave the mesh for the caller (io_parse_mesh) to free. */
+io_status io_parse_ele(const char *name, const char *buf, size_t len, const char *node_name,
+                       const char *nbuf, size_t nlen, io_mesh *m, io_error *err);
+io_status io_parse_msh(const char *name, const char *buf, size_t len, io_mesh *m,
+                       io_error *err);
+io_status io_parse_vtu(const char *name, const char *buf, size_t len, io_mesh *m,
+                       io_error *err);
+
+/* ---- binary helpers (decode.c) ------------------------------------------------------------ */
+/* Little-endian loads of 1, 2, 4 or 8 bytes, whatever the host's byte order. */
+uint64_t io_load_le(const unsigned char *p, size_t width);
+/* The 1-based line of position p in buf (for messages; linear in p - buf). */
+size_t io_line_of(const char *buf, const char *p);
+
+/* Base64 (RFC 4648 alphabet) read as a stream of 4-character groups, whitespace ignored.  A
+ * group may end in '=' padding anywhere in the stream, not only at its end: VTK and meshio
+ * encode an array's header and its data either as one stream or as two padded ones, and
+ * decoding group by group gives the same bytes for both.  A last group of 2 or 3 characters
+ * without padding is accepted (1 or 2 bytes). */
+typedef struct io_b64 {
+    const char *p, *e;          /* undecoded characters */
+    unsigned char q[3];         /* decoded bytes of the current group not yet handed out */
+    unsigned nq, qi;
+    int bad;                    /* set when a character outside the alphabet was met */
+} io_b64;
+void io_b64_init(io_b64 *s, const char *p, const char *e);
+/* Decode exactly n bytes into dst (dst may be NULL to skip them); 0 when the characters end
+ * first or one is not base64 (then s->bad is set). */
+int io_b64_read(io_b64 *s, unsigned char *dst, size_t n);
+/* An upper bound on the bytes the remaining characters can decode to. */
+size_t io_b64_bound(const io_b64 *s);
+
+/* Inflate one zlib stream of slen bytes into exactly dlen bytes: 1 on success, 0 when the
+ * stream is corrupt or decodes to another length.  zlib's deflate never expands data more
+ * than IO_ZLIB_MAX_RATIO times, which bounds what a header may claim before allocating. */
+#define IO_ZLIB_MAX_RATIO 1032u
+int io_inflate(const unsigned char *src, size_t slen, unsigned char *dst, size_t dlen);
+
 /* Read a .bin file straight into the point array (regular files; others via io_parse_bin). */
 io_status io_read_bin_file(const char *path, double **xyz, size_t *n, io_error *err);
 
