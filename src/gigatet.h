@@ -219,13 +219,42 @@ enum {
                                              report); a flat tet still fails */
 };
 
+/* The first violated invariant, in a form a program can read (the report's message says the
+ * same in English).  Unused entries are GTET_CHECK_NONE (tet) or absent (nvertices). */
+#define GTET_CHECK_NONE UINT64_MAX
+typedef struct gtet_check_violation {
+    const char *stage;      /* NULL when every invariant holds; else the checker stage that
+                               failed, a stable identifier: "arguments", "vertices", "input",
+                               "orientation", "facets", "neighbors", "hull_surface", "links",
+                               "euler", "delaunay", "hull", "volume", "full" */
+    uint64_t tet[2];        /* the tets involved (mesh order), or GTET_CHECK_NONE */
+    int nvertices;          /* 0..5: the vertices involved, with their coordinates */
+    uint32_t vertex[5];
+    double point[5][3];
+    int tie;                /* 1 when the failed test was exactly degenerate (co-spherical, or
+                               coplanar on the hull) and only the canonical rule rejects it:
+                               the mesh breaks a tie differently from the symbolic
+                               perturbation; GTET_CHECK_DELAUNAY accepts such ties */
+    uint64_t group_size;    /* for a tie: the mesh vertices on that sphere (or hull plane) */
+} gtet_check_violation;
+
 typedef struct gtet_check_report {
     int ok;                     /* 1 when every invariant holds */
+    unsigned mode;              /* GTET_CHECK_DELAUNAY when the closed Delaunay property was
+                                   judged, 0 for the canonical (perturbed) triangulation */
     uint64_t tets;              /* finite tets checked */
     uint64_t facets_checked;    /* facets whose local Delaunay property was tested */
     uint64_t hull_facets;
     uint64_t duplicates;        /* input points that matched an earlier point */
+    uint64_t negative_tets;     /* tets accepted though negatively oriented
+                                   (GTET_CHECK_ANY_ORIENTATION) */
+    uint64_t unused_vertices;   /* mesh vertices in no tet, each a copy of a vertex that is in
+                                   one (tools that keep duplicate input points write these) */
+    uint64_t cospherical_facets;  /* interior facets whose two tets' five vertices are
+                                     co-spherical (ties; counted in GTET_CHECK_DELAUNAY mode) */
+    uint64_t coplanar_hull_edges; /* hull edges whose two hull facets are coplanar (ditto) */
     int euler;                  /* V - E + F - T of the finite complex (1 for a ball) */
+    gtet_check_violation violation;  /* the first violation (stage NULL when ok) */
     char message[512];          /* first violation found, or a summary */
 } gtet_check_report;
 
@@ -237,10 +266,81 @@ gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsig
                        gtet_check_report *report);
 
 /* The same checker on plain arrays, e.g. a mesh read from a file or built by another tool.
- * neighbors may be NULL (then adjacency is rebuilt and only its consistency is checked). */
+ * neighbors may be NULL (then adjacency is rebuilt and only its consistency is checked).
+ *
+ * Modes (flags):
+ *   0 (canonical): the mesh must be THE perturbed Delaunay tetrahedrization, the unique one
+ *     gigatet and CGAL build: every interior facet locally Delaunay for the symbolically
+ *     perturbed insphere, the hull convex under the perturbed hull rule.  On degenerate input
+ *     another tool's correct Delaunay mesh can fail it; the failure then says it is a tie
+ *     (violation.tie, with the size of the co-spherical or coplanar group).
+ *   GTET_CHECK_DELAUNAY: the Delaunay property itself, ties allowed: every interior facet
+ *     locally Delaunay in the closed sense (the apex across it not strictly inside the tet's
+ *     circumsphere), the hull weakly convex.  With the structural stages this proves that no
+ *     vertex is strictly inside any tet's circumsphere (the Delaunay lemma, src/check/check.c).
+ *   GTET_CHECK_ANY_ORIENTATION (either mode): negatively oriented tets are counted
+ *     (report.negative_tets) and judged as their mirror image; a flat tet still fails.
+ * Both modes check every structural invariant: vertex ids, distinct finite vertices, the
+ * vertex set against xyz (matched by coordinates: the mesh may number its vertices in any
+ * order; a vertex in no tet is accepted when it repeats the point of one that is in a tet, as
+ * tools that keep duplicate input points write them), facets in one or two tets on opposite
+ * sides, a closed hull surface, vertex links that are spheres or disks, V - E + F - T = 1,
+ * the exact volume. */
 gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t *tets,
                               size_t nt, const uint32_t *neighbors, const double *xyz,
                               size_t n, unsigned flags, gtet_check_report *report);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Comparing two meshes of one point set                                                      */
+/* ------------------------------------------------------------------------------------------ */
+
+typedef enum gtet_diff_kind {
+    GTET_DIFF_IDENTICAL = 0,        /* the same set of tets over the same points */
+    GTET_DIFF_TIES = 1,             /* both are Delaunay (closed sense) and differ only in how
+                                       they triangulate co-spherical groups (the groups) */
+    GTET_DIFF_A_NOT_DELAUNAY = 2,   /* A fails the closed Delaunay check (check_a says how) */
+    GTET_DIFF_B_NOT_DELAUNAY = 3,   /* B fails it (check_b) */
+    GTET_DIFF_NEITHER_DELAUNAY = 4, /* both fail it */
+    GTET_DIFF_POINTS = 5            /* their vertex sets differ (or differ from xyz) */
+} gtet_diff_kind;
+
+/* One co-spherical group: the vertices of one cell of the Delaunay subdivision (all on one
+ * empty sphere, >= 5 of them) that A and B triangulate differently. */
+typedef struct gtet_diff_group {
+    uint64_t size;          /* points in the group */
+    uint64_t tets_a;        /* A's tets in the group, of which */
+    uint64_t only_a;        /* ... this many are not tets of B */
+    uint64_t tets_b, only_b;
+    int on_hull;            /* 1 when the group has a facet on the convex hull (a coplanar hull
+                               face whose triangulation may be what differs) */
+    double point[3];        /* the group's lexicographically smallest point */
+    double center[3];       /* its sphere's centre, rounded (for orientation only) */
+} gtet_diff_group;
+
+typedef struct gtet_diff_report {
+    gtet_diff_kind kind;
+    uint64_t tets_a, tets_b;
+    uint64_t common;            /* tets in both (same four points) */
+    uint64_t only_a, only_b;    /* tets in one mesh only */
+    uint64_t points_only_a, points_only_b;  /* distinct points in one mesh only (kind POINTS) */
+    double first_point_only[3]; /* one of them (kind POINTS) */
+    gtet_check_report check_a, check_b;  /* the closed Delaunay checks (when they ran) */
+    uint64_t num_groups;        /* co-spherical groups where A and B differ (kind TIES) */
+    gtet_diff_group *groups;    /* all of them, sorted by their point; malloc'ed, freed by
+                                   gtet_diff_report_free */
+    char message[512];          /* one sentence: the verdict */
+} gtet_diff_report;
+
+/* Compare two meshes of one point set as sets of tets over coordinates: numbering, vertex
+ * order and orientation inside each tet may differ.  When they differ, both are checked in
+ * GTET_CHECK_DELAUNAY | GTET_CHECK_ANY_ORIENTATION mode (against xyz when given), and when
+ * both pass, the tets that differ are grouped by the Delaunay cell they triangulate.  Returns
+ * GTET_OK when the comparison ran (report.kind says the verdict), or an argument / memory
+ * error.  Free the report's groups with gtet_diff_report_free. */
+gtet_status gtet_diff(const double *va, size_t nva, const uint32_t *ta, size_t nta,
+                      const double *vb, size_t nvb, const uint32_t *tb, size_t ntb,
+                      const double *xyz, size_t n, gtet_diff_report *report);
+void gtet_diff_report_free(gtet_diff_report *report);
 
 #ifdef __cplusplus
 }

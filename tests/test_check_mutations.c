@@ -23,13 +23,39 @@ static tmesh tm_copy(const tmesh *m)
     return c;
 }
 
+/* The canonical check's verdict and message.  Every mutation is also judged in closed
+ * Delaunay mode (GTET_CHECK_DELAUNAY), with and without GTET_CHECK_ANY_ORIENTATION: a mesh the
+ * canonical check accepts must pass it, and a mesh it rejects must fail it too, unless the
+ * canonical failure is only a co-spherical tie broken the other way (violation.tie), or (with
+ * any orientation) only a negatively oriented tet.  Mismatches are counted in mode_mismatch. */
+static int mode_mismatch, mode_runs;
+
 static gtet_status run(const tmesh *m, const double *xyz, size_t n, int with_nb, char msg[512])
 {
-    gtet_check_report r;
-    gtet_status st = gtet_check_arrays(m->v, m->nv, m->t, m->nt, with_nb ? m->nb : NULL, xyz, n,
-                                       0, &r);
+    gtet_check_report r, rd, ra;
+    const uint32_t *nb = with_nb ? m->nb : NULL;
+    gtet_status st = gtet_check_arrays(m->v, m->nv, m->t, m->nt, nb, xyz, n, 0, &r);
+    gtet_status sd = gtet_check_arrays(m->v, m->nv, m->t, m->nt, nb, xyz, n, GTET_CHECK_DELAUNAY, &rd);
+    gtet_status sa = gtet_check_arrays(m->v, m->nv, m->t, m->nt, nb, xyz, n,
+                                       GTET_CHECK_DELAUNAY | GTET_CHECK_ANY_ORIENTATION, &ra);
     snprintf(msg, 512, "%s", r.message);
     if ((st == GTET_OK) != (r.ok == 1)) snprintf(msg, 512, "status and report.ok disagree");
+    int tie = st != GTET_OK && r.violation.tie;
+    int negative = st != GTET_OK && r.violation.stage && !strcmp(r.violation.stage, "orientation") &&
+                   strstr(r.message, "negatively");
+    mode_runs++;
+    if ((sd == GTET_OK) != (st == GTET_OK || tie)) {
+        mode_mismatch++;
+        fprintf(stderr, "mode mismatch: canonical: %s; delaunay: %s\n", r.message, rd.message);
+    }
+    if (!negative && (sa == GTET_OK) != (sd == GTET_OK)) {
+        mode_mismatch++;
+        fprintf(stderr, "mode mismatch: delaunay: %s; any orientation: %s\n", rd.message, ra.message);
+    }
+    if (st != GTET_OK && !tie && (!r.violation.stage || !rd.violation.stage)) {
+        mode_mismatch++;
+        fprintf(stderr, "a failure without its stage: %s\n", r.message);
+    }
     return st;
 }
 
@@ -451,6 +477,67 @@ static void test_malformed_arrays_are_named(void)
     free(p);
 }
 
+/* Swapping vertices 1 and 3 of any subset of the tets (with their neighbors, as a tool that
+ * orients nothing would write them) passes GTET_CHECK_ANY_ORIENTATION in both modes, with the
+ * count of negative tets; renumbering the vertices does not matter either. */
+static void test_any_orientation_accepts_unoriented_renumbered_meshes(void)
+{
+    double *p;
+    tmesh m = base_mesh(11, 18, &p);
+    tu_rng r = {5};
+    for (int it = 0; it < 6; it++) {
+        tmesh c = tm_copy(&m);
+        uint64_t swapped = 0;
+        for (size_t t = 0; t < c.nt; t++)
+            if (it == 5 || tu_below(&r, 2)) {
+                uint32_t x = c.t[4 * t + 1];
+                c.t[4 * t + 1] = c.t[4 * t + 3];
+                c.t[4 * t + 3] = x;
+                x = c.nb[4 * t + 1];
+                c.nb[4 * t + 1] = c.nb[4 * t + 3];
+                c.nb[4 * t + 3] = x;
+                swapped++;
+            }
+        /* renumber: vertex v becomes perm[v] */
+        uint32_t perm[18];
+        for (uint32_t v = 0; v < 18; v++) perm[v] = v;
+        for (uint32_t v = 17; v > 0; v--) {
+            uint32_t k = (uint32_t)tu_below(&r, v + 1), x = perm[v];
+            perm[v] = perm[k];
+            perm[k] = x;
+        }
+        double *nv = malloc(18 * 3 * sizeof *nv);
+        for (uint32_t v = 0; v < 18; v++) memcpy(nv + 3 * perm[v], c.v + 3 * v, 3 * sizeof *nv);
+        for (size_t i = 0; i < 4 * c.nt; i++) c.t[i] = perm[c.t[i]];
+        memcpy(c.v, nv, 18 * 3 * sizeof *nv);
+        free(nv);
+        for (int mode = 0; mode < 2; mode++) {
+            unsigned fl = GTET_CHECK_ANY_ORIENTATION | GTET_CHECK_FULL | (mode ? GTET_CHECK_DELAUNAY : 0u);
+            gtet_check_report rep;
+            gtet_status st = gtet_check_arrays(c.v, c.nv, c.t, c.nt, c.nb, p, 18, fl, &rep);
+            TEST_CHECK(st == GTET_OK && rep.negative_tets == swapped,
+                       "round %d mode %d: %s (negative %llu of %llu)", it, mode, rep.message,
+                       (unsigned long long)rep.negative_tets, (unsigned long long)swapped);
+            st = gtet_check_arrays(c.v, c.nv, c.t, c.nt, NULL, p, 18, fl & ~(unsigned)GTET_CHECK_ANY_ORIENTATION, &rep);
+            TEST_CHECK((st == GTET_OK) == (swapped == 0) && (swapped == 0 || (rep.violation.stage &&
+                       !strcmp(rep.violation.stage, "orientation"))),
+                       "round %d mode %d without the flag: %s", it, mode, rep.message);
+        }
+        tm_free(&c);
+    }
+    tm_free(&m);
+    free(p);
+}
+
+/* Every mutation above, judged again by run() in closed Delaunay mode and with any
+ * orientation, got the verdict the canonical one implies. */
+static void test_every_mutation_fails_in_delaunay_mode_too(void)
+{
+    TEST_CHECK(mode_runs > 100, "only %d mutations were judged in both modes", mode_runs);
+    TEST_CHECK(mode_mismatch == 0, "%d mutations judged inconsistently by the modes (see above)",
+               mode_mismatch);
+}
+
 int main(void)
 {
     TU_RUN(test_base_meshes_pass);
@@ -466,5 +553,7 @@ int main(void)
     TU_RUN(test_a_2_3_flip_is_a_valid_triangulation_but_not_locally_delaunay);
     TU_RUN(test_missing_and_extra_input_points_are_named);
     TU_RUN(test_malformed_arrays_are_named);
+    TU_RUN(test_any_orientation_accepts_unoriented_renumbered_meshes);
+    TU_RUN(test_every_mutation_fails_in_delaunay_mode_too);
     return tu_finish();
 }

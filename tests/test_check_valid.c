@@ -119,9 +119,20 @@ static void test_cube_only_the_perturbed_delaunay_split_passes(void)
         matched += same;
         TEST_CHECK(ok == same, "cube split %d: checker says %s (%s), brute force says %s", w,
                    ok ? "valid" : "invalid", msg, same ? "Delaunay" : "not Delaunay");
-        if (!same)
-            TEST_CHECK(strstr(msg, "not locally Delaunay") || strstr(msg, "hull is not convex"),
+        if (!same) {
+            /* the cube's 8 corners are co-spherical: a wrong split is a tie broken the other
+             * way, and the report says so with the whole group */
+            gtet_check_report r;
+            tm_check(&m, v, 8, 0, &r);
+            TEST_CHECK(strstr(msg, "not locally Delaunay") && strstr(msg, "a tie broken against") && r.violation.tie == 1 &&
+                           r.violation.group_size == 8 && r.violation.nvertices == 5 &&
+                           r.violation.tet[0] != GTET_CHECK_NONE &&
+                           !strcmp(r.violation.stage, "delaunay"),
                        "cube split %d fails for another reason: %s", w, msg);
+        }
+        /* every split is a Delaunay triangulation in the closed sense */
+        TEST_CHECK(passes(&m, v, 8, GTET_CHECK_DELAUNAY | GTET_CHECK_FULL, msg),
+                   "cube split %d fails --delaunay: %s", w, msg);
         tm_free(&m);
     }
     TEST_CHECK(matched == 1, "the perturbed Delaunay cube mesh (%zu tets) is %d of the 9 splits",

@@ -40,6 +40,7 @@ gtet_status chk_fail(chk_ctx *c, const char *fmt, ...)
     vsnprintf(c->report->message, sizeof c->report->message, fmt, ap);
     va_end(ap);
     c->report->ok = 0;
+    c->report->violation.stage = c->stage;
     return GTET_ERR_CHECK_FAILED;
 }
 
@@ -49,6 +50,44 @@ gtet_status chk_oom(chk_ctx *c)
              "the checker ran out of memory (%zu vertices, %zu tets)", c->nv, c->nt);
     c->report->ok = 0;
     return GTET_ERR_OUT_OF_MEMORY;
+}
+
+void chk_note(chk_ctx *c, uint64_t t0, uint64_t t1, int nv, const uint32_t *v)
+{
+    gtet_check_violation *x = &c->report->violation;
+    x->tet[0] = t0;
+    x->tet[1] = t1;
+    x->nvertices = 0;
+    for (int i = 0; i < nv && i < 5; i++) {
+        if (v[i] >= c->nv) continue;  /* an out-of-range id is reported by number only */
+        x->vertex[x->nvertices] = v[i];
+        memcpy(x->point[x->nvertices], c->vertices + 3 * (size_t)v[i], sizeof x->point[0]);
+        x->nvertices++;
+    }
+}
+
+uint64_t chk_group_size(const chk_ctx *c, const uint32_t *abc, const uint32_t *abcd)
+{
+    const double *V = c->vertices;
+    const double *p[4];
+    for (int i = 0; i < (abcd ? 4 : 3); i++) p[i] = V + 3 * (size_t)(abcd ? abcd[i] : abc[i]);
+    uint64_t k = 0;
+    for (size_t w = 0; w < c->nv; w++) {
+        if (c->unused && c->unused[w]) continue;
+        const double *q = V + 3 * w;
+        k += abcd ? chk_insphere(c, p[0], p[1], p[2], p[3], q) == 0
+                  : chk_orient3d(c, p[0], p[1], p[2], q) == 0;
+    }
+    return k;
+}
+
+uint32_t chk_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];  /* path halving */
+        x = parent[x];
+    }
+    return x;
 }
 
 void chk_outward_facet(const uint32_t *tet, int f, uint32_t o[3])
@@ -88,104 +127,184 @@ static uint32_t find_vertex(const vkey *keys, size_t nv, const double *p)
 
 static int finite3(const double *p) { return isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]); }
 
-/* Vertex ids, distinct vertices per tet, finite distinct vertices, every vertex used, and the
- * vertex set against the input points. */
-gtet_status chk_inputs(chk_ctx *c)
+/* Vertex ids in range and distinct per tet, finite vertices; returns the marks of the
+ * vertices that are in some tet in *used (calloc'ed). */
+static gtet_status check_ids(chk_ctx *c, uint8_t **used)
 {
     const uint32_t *T = c->tets;
     const double *V = c->vertices;
+    c->stage = "vertices";
     if (c->nv < 4) return chk_fail(c, "the mesh has %zu vertices; a tetrahedrization needs 4", c->nv);
     if (c->nt == 0) return chk_fail(c, "the mesh has no tets");
     for (size_t t = 0; t < c->nt; t++)
         for (int i = 0; i < 4; i++) {
-            if (T[4 * t + i] >= c->nv)
+            if (T[4 * t + i] >= c->nv) {
+                chk_note(c, t, GTET_CHECK_NONE, 4, T + 4 * t);
                 return chk_fail(c, "tet %zu has vertex id %u, out of range (%zu vertices)", t,
                                 T[4 * t + i], c->nv);
+            }
             for (int j = 0; j < i; j++)
-                if (T[4 * t + i] == T[4 * t + j])
+                if (T[4 * t + i] == T[4 * t + j]) {
+                    chk_note(c, t, GTET_CHECK_NONE, 4, T + 4 * t);
                     return chk_fail(c, "tet %zu (%u %u %u %u) repeats vertex %u", t, T[4 * t],
                                     T[4 * t + 1], T[4 * t + 2], T[4 * t + 3], T[4 * t + i]);
+                }
         }
     for (size_t v = 0; v < c->nv; v++)
-        if (!finite3(V + 3 * v)) return chk_fail(c, "vertex %zu has a non-finite coordinate", v);
+        if (!finite3(V + 3 * v)) {
+            uint32_t id = (uint32_t)v;
+            chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &id);
+            return chk_fail(c, "vertex %zu has a non-finite coordinate", v);
+        }
+    if (!(*used = calloc(c->nv, 1))) return chk_oom(c);
+    for (size_t t = 0; t < 4 * c->nt; t++) (*used)[T[t]] = 1;
+    return GTET_OK;
+}
 
-    gtet_status st = GTET_OK;
-    vkey *keys = malloc(c->nv * sizeof *keys);
-    uint32_t *first = malloc(c->nv * sizeof *first);  /* first input index of each vertex */
-    if (!keys || !first) {
-        st = chk_oom(c);
-        goto done;
-    }
-    for (size_t v = 0; v < c->nv; v++) {
-        memcpy(keys[v].x, V + 3 * v, sizeof keys[v].x);
-        keys[v].id = (uint32_t)v;
-        first[v] = UINT32_MAX;
-    }
-    qsort(keys, c->nv, sizeof *keys, vkey_cmp);
-    for (size_t k = 1; k < c->nv; k++)
-        if (orc_lex_compare(keys[k - 1].x, keys[k].x) == 0) {
-            st = chk_fail(c, "vertices %u and %u are the same point (%.17g, %.17g, %.17g)",
-                          keys[k - 1].id, keys[k].id, keys[k].x[0], keys[k].x[1], keys[k].x[2]);
-            goto done;
+/* keys[0..nv) sorted by point: the vertices in tets are pairwise distinct points, and a vertex
+ * in no tet is accepted only as a copy of one that is in a tet (c->unused marks those).  On
+ * success the keys of the used vertices are compacted to keys[0..*nk). */
+static gtet_status check_distinct(chk_ctx *c, vkey *keys, const uint8_t *used, size_t *nk)
+{
+    const double *V = c->vertices;
+    size_t k = 0;
+    for (size_t g = 0; g < c->nv;) {
+        size_t e = g + 1, u = SIZE_MAX;
+        while (e < c->nv && orc_lex_compare(keys[g].x, keys[e].x) == 0) e++;
+        for (size_t i = g; i < e; i++) {
+            if (!used[keys[i].id]) continue;
+            if (u != SIZE_MAX) {
+                uint32_t ids[2] = {keys[u].id, keys[i].id};
+                chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 2, ids);
+                return chk_fail(c, "vertices %u and %u are the same point (%.17g, %.17g, %.17g)",
+                                ids[0], ids[1], keys[i].x[0], keys[i].x[1], keys[i].x[2]);
+            }
+            u = i;
         }
-    /* every vertex in some tet (reuse first[] as a mark) */
-    for (size_t t = 0; t < 4 * c->nt; t++) first[T[t]] = 0;
-    for (size_t v = 0; v < c->nv; v++)
-        if (first[v] == UINT32_MAX) {
-            st = chk_fail(c, "vertex %zu (%.17g, %.17g, %.17g) is in no tet", v, V[3 * v],
-                          V[3 * v + 1], V[3 * v + 2]);
-            goto done;
+        if (u == SIZE_MAX) {
+            uint32_t id = keys[g].id;
+            chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &id);
+            return chk_fail(c, "vertex %u (%.17g, %.17g, %.17g) is in no tet", id, V[3 * (size_t)id],
+                            V[3 * (size_t)id + 1], V[3 * (size_t)id + 2]);
         }
-    if (!c->xyz) goto done;
-    if (c->n >= UINT32_MAX) {
-        st = chk_fail(c, "%zu input points: more than the checker's 32-bit indices hold", c->n);
-        goto done;
+        if (e - g > 1) {
+            if (!c->unused && !(c->unused = calloc(c->nv, 1))) return chk_oom(c);
+            for (size_t i = g; i < e; i++) c->unused[keys[i].id] = i != u;
+            c->report->unused_vertices += e - g - 1;
+        }
+        keys[k++] = keys[u];
+        g = e;
     }
+    *nk = k;
+    if (c->unused && c->input_map)
+        return chk_fail(c, "the mesh has %llu vertices in no tet (copies of other vertices)",
+                        (unsigned long long)c->report->unused_vertices);
+    return GTET_OK;
+}
+
+/* The used vertices (keys[0..nk), sorted) against the input points: every input point is a
+ * vertex, every used vertex an input point, and with an input map the map and gigatet's
+ * numbering (order of first occurrence). */
+static gtet_status check_against_input(chk_ctx *c, const vkey *keys, size_t nk, uint32_t *first)
+{
+    const double *V = c->vertices;
+    c->stage = "input";
+    if (c->n >= UINT32_MAX)
+        return chk_fail(c, "%zu input points: more than the checker's 32-bit indices hold", c->n);
     for (size_t v = 0; v < c->nv; v++) first[v] = UINT32_MAX;
     uint64_t dups = 0;
     for (size_t i = 0; i < c->n; i++) {
         const double *p = c->xyz + 3 * i;
-        if (!finite3(p)) {
-            st = chk_fail(c, "input point %zu has a non-finite coordinate", i);
-            goto done;
-        }
-        uint32_t v = find_vertex(keys, c->nv, p);
-        if (v == UINT32_MAX) {
-            st = chk_fail(c, "input point %zu (%.17g, %.17g, %.17g) is not a vertex of the mesh",
-                          i, p[0], p[1], p[2]);
-            goto done;
-        }
+        if (!finite3(p)) return chk_fail(c, "input point %zu has a non-finite coordinate", i);
+        uint32_t v = find_vertex(keys, nk, p);
+        if (v == UINT32_MAX)
+            return chk_fail(c, "input point %zu (%.17g, %.17g, %.17g) is not a vertex of the mesh",
+                            i, p[0], p[1], p[2]);
         if (c->input_map && c->input_map[i] != v) {
-            st = chk_fail(c, "input_map[%zu] = %u, but input point %zu is vertex %u", i,
-                          c->input_map[i], i, v);
-            goto done;
+            chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &v);
+            return chk_fail(c, "input_map[%zu] = %u, but input point %zu is vertex %u", i,
+                            c->input_map[i], i, v);
         }
         if (first[v] == UINT32_MAX) first[v] = (uint32_t)i;
         else dups++;
     }
     c->report->duplicates = dups;
-    for (size_t v = 0; v < c->nv; v++) {
+    for (size_t k = 0; k < nk; k++) {
+        uint32_t v = keys[k].id;
         if (first[v] == UINT32_MAX) {
-            st = chk_fail(c, "vertex %zu (%.17g, %.17g, %.17g) is not an input point", v,
-                          V[3 * v], V[3 * v + 1], V[3 * v + 2]);
-            goto done;
-        }
-        /* gigatet numbers its vertices in order of first occurrence */
-        if (c->input_map && v > 0 && first[v] < first[v - 1]) {
-            st = chk_fail(c, "vertex %zu first occurs at input %u, before vertex %zu (input %u): "
-                          "vertices are not numbered in order of first occurrence",
-                          v, first[v], v - 1, first[v - 1]);
-            goto done;
+            chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &v);
+            return chk_fail(c, "vertex %u (%.17g, %.17g, %.17g) is not an input point", v,
+                            V[3 * (size_t)v], V[3 * (size_t)v + 1], V[3 * (size_t)v + 2]);
         }
     }
+    /* gigatet numbers its vertices in order of first occurrence */
+    for (size_t v = 1; c->input_map && v < c->nv; v++)
+        if (first[v] < first[v - 1])
+            return chk_fail(c, "vertex %zu first occurs at input %u, before vertex %zu (input %u): "
+                            "vertices are not numbered in order of first occurrence",
+                            v, first[v], v - 1, first[v - 1]);
+    return GTET_OK;
+}
+
+/* Stage 1: the vertex set. */
+gtet_status chk_inputs(chk_ctx *c)
+{
+    uint8_t *used = NULL;
+    vkey *keys = NULL;
+    uint32_t *first = NULL;
+    size_t nk = 0;
+    gtet_status st = check_ids(c, &used);
+    if (st != GTET_OK) goto done;
+    keys = malloc(c->nv * sizeof *keys);
+    first = malloc(c->nv * sizeof *first);  /* first input index of each vertex */
+    if (!keys || !first) {
+        st = chk_oom(c);
+        goto done;
+    }
+    for (size_t v = 0; v < c->nv; v++) {
+        memcpy(keys[v].x, c->vertices + 3 * v, sizeof keys[v].x);
+        keys[v].id = (uint32_t)v;
+    }
+    qsort(keys, c->nv, sizeof *keys, vkey_cmp);
+    if ((st = check_distinct(c, keys, used, &nk)) != GTET_OK) goto done;
+    if (c->xyz) st = check_against_input(c, keys, nk, first);
 done:
+    free(used);
     free(keys);
     free(first);
     return st;
 }
 
+/* The summary of a passing check. */
+static void report_ok(chk_ctx *c)
+{
+    gtet_check_report *r = c->report;
+    char extra[160] = "";
+    int k = 0;
+    if (r->negative_tets)
+        k += snprintf(extra + k, sizeof extra - (size_t)k, ", %llu negatively oriented tets accepted",
+                      (unsigned long long)r->negative_tets);
+    if (r->unused_vertices && k < (int)sizeof extra)
+        k += snprintf(extra + k, sizeof extra - (size_t)k, ", %llu unused copies of vertices",
+                      (unsigned long long)r->unused_vertices);
+    if (c->closed && k < (int)sizeof extra)
+        snprintf(extra + k, sizeof extra - (size_t)k, ", %llu co-spherical facets and %llu coplanar "
+                 "hull edges (ties)", (unsigned long long)r->cospherical_facets,
+                 (unsigned long long)r->coplanar_hull_edges);
+    r->ok = 1;
+    snprintf(r->message, sizeof r->message,
+             "ok (%s): %zu vertices, %zu tets, %zu interior facets locally Delaunay%s, %zu hull "
+             "facets convex, Euler characteristic %d%s%s",
+             c->closed ? "Delaunay, ties allowed" : "canonical", c->nv, c->nt, c->interior_facets,
+             c->closed ? " (closed sense)" : "", c->nh, r->euler,
+             (c->flags & GTET_CHECK_FULL) ? ", every circumsphere empty" : "", extra);
+}
+
 gtet_status chk_run(chk_ctx *c)
 {
+    c->closed = (c->flags & GTET_CHECK_DELAUNAY) != 0;
+    c->report->mode = c->closed ? (unsigned)GTET_CHECK_DELAUNAY : 0u;
+    c->report->violation.tet[0] = c->report->violation.tet[1] = GTET_CHECK_NONE;
     gtet_status st = chk_inputs(c);
     if (st == GTET_OK) st = chk_orientation(c);
     if (st == GTET_OK) st = chk_facets(c);
@@ -195,38 +314,46 @@ gtet_status chk_run(chk_ctx *c)
     if (st == GTET_OK) st = chk_hull_convex(c);
     if (st == GTET_OK) st = chk_volume(c);
     if (st == GTET_OK && (c->flags & GTET_CHECK_FULL)) st = chk_full(c);
-    if (st == GTET_OK) {
-        c->report->ok = 1;
-        snprintf(c->report->message, sizeof c->report->message,
-                 "ok: %zu vertices, %zu tets, %zu interior facets locally Delaunay, %zu hull "
-                 "facets convex, Euler characteristic %d%s",
-                 c->nv, c->nt, c->interior_facets, c->nh, c->report->euler,
-                 (c->flags & GTET_CHECK_FULL) ? ", every circumsphere empty" : "");
+    if (st == GTET_OK) report_ok(c);
+    if (st != GTET_OK) {
+        free(c->cell);
+        free(c->cell_hull);
+        c->cell = NULL;
+        c->cell_hull = NULL;
     }
     free(c->adj);
     free(c->hull);
     free(c->hull_tf);
     free(c->hull_adj);
-    c->adj = c->hull = c->hull_tf = c->hull_adj = NULL;
+    free(c->own_tets);
+    free(c->own_neighbors);
+    free(c->unused);
+    c->adj = c->hull = c->hull_tf = c->hull_adj = c->own_tets = c->own_neighbors = NULL;
+    c->unused = NULL;
     return st;
 }
 
-gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t *tets,
-                              size_t nt, const uint32_t *neighbors, const double *xyz,
-                              size_t n, unsigned flags, gtet_check_report *report)
+gtet_status chk_check_arrays(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
+                             const uint32_t *neighbors, const double *xyz, size_t n,
+                             unsigned flags, gtet_check_report *report, uint32_t **cell,
+                             uint8_t **cell_hull)
 {
     gtet_check_report local;
     if (!report) report = &local;
     memset(report, 0, sizeof *report);
     report->tets = nt;
+    report->violation.tet[0] = report->violation.tet[1] = GTET_CHECK_NONE;
+    report->mode = flags & (unsigned)GTET_CHECK_DELAUNAY;
     if ((!vertices && nv) || (!tets && nt) || (!xyz && n) || (flags & ~CHK_KNOWN_FLAGS)) {
         snprintf(report->message, sizeof report->message,
                  "invalid argument: a NULL array with a nonzero count, or unknown flags");
+        report->violation.stage = "arguments";
         return GTET_ERR_ARGUMENT;
     }
     if (nv >= UINT32_MAX || nt >= UINT32_MAX / 4) {
         snprintf(report->message, sizeof report->message,
                  "%zu vertices / %zu tets: more than 32-bit ids hold", nv, nt);
+        report->violation.stage = "arguments";
         return GTET_ERR_TOO_LARGE;
     }
     chk_ctx c;
@@ -240,5 +367,18 @@ gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t 
     c.n = xyz ? n : 0;
     c.flags = flags;
     c.report = report;
-    return chk_run(&c);
+    c.want_cells = cell != NULL;
+    gtet_status st = chk_run(&c);
+    if (cell) {
+        *cell = c.cell;
+        *cell_hull = c.cell_hull;
+    }
+    return st;
+}
+
+gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t *tets,
+                              size_t nt, const uint32_t *neighbors, const double *xyz,
+                              size_t n, unsigned flags, gtet_check_report *report)
+{
+    return chk_check_arrays(vertices, nv, tets, nt, neighbors, xyz, n, flags, report, NULL, NULL);
 }

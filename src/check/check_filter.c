@@ -251,6 +251,15 @@ int chk_orient3d(const chk_ctx *c, const double *a, const double *b, const doubl
     return s ? s : orc_orient3d(a, b, cc, d);
 }
 
+int chk_insphere(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                 const double *d, const double *e)
+{
+    if (c->flags & GTET_CHECK_NO_FILTER) return orc_insphere(a, b, cc, d, e);
+    int s = fast_insphere(a, b, cc, d, e);
+    if (s == 2) s = filter_insphere(a, b, cc, d, e);
+    return s ? s : orc_insphere(a, b, cc, d, e);
+}
+
 int chk_insphere_sos(const chk_ctx *c, const double *a, const double *b, const double *cc,
                      const double *d, const double *e)
 {

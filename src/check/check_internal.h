@@ -11,7 +11,9 @@
 
 #include "../gigatet.h"
 
-#define CHK_KNOWN_FLAGS ((unsigned)GTET_CHECK_FULL | (unsigned)GTET_CHECK_NO_FILTER)
+#define CHK_KNOWN_FLAGS                                                                     \
+    ((unsigned)GTET_CHECK_FULL | (unsigned)GTET_CHECK_NO_FILTER | (unsigned)GTET_CHECK_DELAUNAY | \
+     (unsigned)GTET_CHECK_ANY_ORIENTATION)
 
 typedef struct chk_ctx {
     /* the mesh under test */
@@ -25,7 +27,10 @@ typedef struct chk_ctx {
     size_t n;
     const uint32_t *input_map;  /* n or NULL: checked against xyz when given (gtet_check) */
     unsigned flags;
+    int closed;                 /* GTET_CHECK_DELAUNAY: ties allowed (closed Delaunay property) */
     gtet_check_report *report;  /* never NULL inside the checker */
+    const char *stage;          /* the running stage's identifier (gtet_check_violation.stage) */
+    int want_cells;             /* fill cell[] (gtet_diff) */
     /* built by the stages */
     uint32_t *adj;              /* 4*nt: rebuilt adjacency, GTET_NO_TET on the hull */
     uint32_t *hull;             /* 3*nh: hull facets, outward oriented (ghost orientation) */
@@ -33,11 +38,27 @@ typedef struct chk_ctx {
     uint32_t *hull_adj;         /* 3*nh: hull facet across edge (hull[3h+i], hull[3h+(i+1)%3]) */
     size_t nh;
     size_t interior_facets;
+    uint32_t *own_tets;         /* GTET_CHECK_ANY_ORIENTATION: the tets with every negative one
+                                   turned positive (vertices 0 and 1 swapped); tets points here */
+    uint32_t *own_neighbors;    /* the neighbors permuted alike (when given) */
+    uint8_t *unused;            /* nv flags (or NULL when every vertex is in a tet): 1 for a vertex
+                                   in no tet whose point is that of a vertex in one */
+    uint32_t *cell;             /* want_cells: nt union-find parents joining the tets across
+                                   interior facets whose five vertices are co-spherical, so that
+                                   each class is the triangulation of one Delaunay cell */
+    uint8_t *cell_hull;         /* want_cells: nt flags, 1 for a tet with a facet on the hull */
 } chk_ctx;
 
 /* Record the first violation (printf-style message) and return GTET_ERR_CHECK_FAILED. */
 gtet_status chk_fail(chk_ctx *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 gtet_status chk_oom(chk_ctx *c);
+/* Record what the next chk_fail is about: tets t0, t1 (GTET_CHECK_NONE when absent) and nv
+ * vertex ids with their coordinates. */
+void chk_note(chk_ctx *c, uint64_t t0, uint64_t t1, int nv, const uint32_t *v);
+/* The number of used mesh vertices w with orient3d(a,b,c,w) == 0 (coplanar) when d is NULL,
+ * else with insphere(a,b,c,d,w) == 0 (co-spherical): the size of a tie's group. */
+uint64_t chk_group_size(const chk_ctx *c, const uint32_t *abc, const uint32_t *abcd);
+uint32_t chk_find(uint32_t *parent, uint32_t x);
 
 /* Facet f of tet t (opposite its vertex f) as seen from outside the tet: (o[0], o[1], o[2])
  * with orient3d(o[0], o[1], o[2], tets[4t+f]) < 0 when the tet is positively oriented. */
@@ -47,6 +68,8 @@ void chk_outward_facet(const uint32_t *tet, int f, uint32_t o[3]);
  * interval arithmetic when c->flags lacks GTET_CHECK_NO_FILTER. */
 int chk_orient3d(const chk_ctx *c, const double *a, const double *b, const double *cc,
                  const double *d);
+int chk_insphere(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                 const double *d, const double *e);
 int chk_insphere_sos(const chk_ctx *c, const double *a, const double *b, const double *cc,
                      const double *d, const double *e);
 int chk_ghost_conflict(const chk_ctx *c, const double *a, const double *b, const double *cc,
@@ -62,7 +85,15 @@ gtet_status chk_hull_convex(chk_ctx *c);   /* check_geom.c */
 gtet_status chk_volume(chk_ctx *c);        /* check_geom.c */
 gtet_status chk_full(chk_ctx *c);          /* check_geom.c */
 
-/* The whole checker on a filled context (inputs set, built fields zero); frees what it builds. */
+/* gtet_check_arrays(); with cell not NULL (closed mode) also hands over the Delaunay cells
+ * (chk_ctx.cell, .cell_hull; NULL when the check failed), which the caller frees. */
+gtet_status chk_check_arrays(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
+                             const uint32_t *neighbors, const double *xyz, size_t n,
+                             unsigned flags, gtet_check_report *report, uint32_t **cell,
+                             uint8_t **cell_hull);
+
+/* The whole checker on a filled context (inputs set, built fields zero); frees what it builds
+ * except cell[] and cell_hull[] (the caller's, when want_cells; freed on failure). */
 gtet_status chk_run(chk_ctx *c);
 
 #endif

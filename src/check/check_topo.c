@@ -57,10 +57,12 @@ static int facet_parity(const uint32_t o[3])
 
 static gtet_status check_neighbors(chk_ctx *c)
 {
+    c->stage = "neighbors";
     for (size_t tf = 0; tf < 4 * c->nt; tf++)
         if (c->neighbors[tf] != c->adj[tf]) {
             size_t t = tf / 4;
             int f = (int)(tf % 4);
+            chk_note(c, t, c->neighbors[tf], 4, c->tets + 4 * t);
             if (c->adj[tf] == GTET_NO_TET)
                 return chk_fail(c, "neighbor[4*%zu+%d] = %u, but facet %d of tet %zu is on the hull",
                                 t, f, c->neighbors[tf], f, t);
@@ -123,16 +125,21 @@ static int match_bucket(chk_ctx *c, size_t v, const size_t *start, const uint32_
         uint32_t b = (uint32_t)(keys[g].bc >> 32), cc = (uint32_t)keys[g].bc;
         for (size_t k = g + 1; k < e; k++)
             if (keys[k].apex == keys[k - 1].apex) {
-                if (report)
+                if (report) {
+                    chk_note(c, keys[k - 1].tf / 4, keys[k].tf / 4, 4, T + 4 * (keys[k].tf / 4));
                     chk_fail(c, "tets %u and %u have the same four vertices (%zu %u %u %u)",
                              keys[k - 1].tf / 4, keys[k].tf / 4, v, b, cc, keys[k].apex);
+                }
                 return 1;
             }
         if (e - g > 2) {
-            if (report)
+            if (report) {
+                uint32_t f3[3] = {(uint32_t)v, b, cc};
+                chk_note(c, keys[g].tf / 4, keys[g + 1].tf / 4, 3, f3);
                 chk_fail(c, "facet (%zu %u %u) is in %zu tets (%u, %u, %u%s)", v, b, cc, e - g,
                          keys[g].tf / 4, keys[g + 1].tf / 4, keys[g + 2].tf / 4,
                          e - g > 3 ? ", ..." : "");
+            }
             return 1;
         }
         if (e - g == 1) {
@@ -142,9 +149,12 @@ static int match_bucket(chk_ctx *c, size_t v, const size_t *start, const uint32_
             chk_outward_facet(T + 4 * (t1 / 4), (int)(t1 % 4), o1);
             chk_outward_facet(T + 4 * (t2 / 4), (int)(t2 % 4), o2);
             if (facet_parity(o1) == facet_parity(o2)) {
-                if (report)
+                if (report) {
+                    uint32_t f3[3] = {(uint32_t)v, b, cc};
+                    chk_note(c, t1 / 4, t2 / 4, 3, f3);
                     chk_fail(c, "tets %u and %u lie on the same side of their common facet "
                              "(%zu %u %u): they overlap", t1 / 4, t2 / 4, v, b, cc);
+                }
                 return 1;
             }
             c->adj[t1] = t2 / 4;
@@ -165,6 +175,7 @@ gtet_status chk_facets(chk_ctx *c)
     const uint32_t *T = c->tets;
     size_t nf = 4 * c->nt;
     gtet_status st = GTET_OK;
+    c->stage = "facets";
     size_t *start = calloc(c->nv + 1, sizeof *start);
     uint32_t *bucket = malloc(nf * sizeof *bucket);
     fkey *keys = NULL;
@@ -212,6 +223,7 @@ gtet_status chk_facets(chk_ctx *c)
     c->interior_facets = interior;
     if (c->neighbors && (st = check_neighbors(c)) != GTET_OK) goto done;
     /* the hull facets, in order of their tet facet */
+    c->stage = "hull_surface";
     c->nh = 0;
     for (size_t tf = 0; tf < nf; tf++) c->nh += c->adj[tf] == GTET_NO_TET;
     if (c->nh < 4) {
@@ -273,16 +285,20 @@ gtet_status chk_hull_surface(chk_ctx *c)
         }
     qsort(e, ne, sizeof *e, ekey_cmp);
     gtet_status st = GTET_OK;
+    c->stage = "hull_surface";
     for (size_t g = 0; g < ne;) {
         size_t x = g + 1;
         while (x < ne && e[x].u == e[g].u && e[x].w == e[g].w) x++;
         if (x - g != 2) {
+            uint32_t ed[2] = {e[g].u, e[g].w};
+            chk_note(c, c->hull_tf[e[g].h] / 4, GTET_CHECK_NONE, 2, ed);
             st = chk_fail(c, "hull edge (%u %u) is in %zu hull facet%s, not 2: the hull is not a "
                           "closed surface", e[g].u, e[g].w, x - g, x - g == 1 ? "" : "s");
             break;
         }
         if (e[g].fwd == e[g + 1].fwd) {
             const uint32_t *h1 = c->hull + 3 * (size_t)e[g].h, *h2 = c->hull + 3 * (size_t)e[g + 1].h;
+            chk_note(c, c->hull_tf[e[g].h] / 4, c->hull_tf[e[g + 1].h] / 4, 3, h1);
             st = chk_fail(c, "hull facets (%u %u %u) and (%u %u %u) traverse their common edge in "
                           "the same direction: the hull is not consistently oriented",
                           h1[0], h1[1], h1[2], h2[0], h2[1], h2[2]);
@@ -320,15 +336,6 @@ static void u32_sort(uint32_t *a, size_t n)
     }
 }
 
-static uint32_t uf_find(uint32_t *parent, uint32_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];  /* path halving */
-        x = parent[x];
-    }
-    return x;
-}
-
 gtet_status chk_euler_links(chk_ctx *c)
 {
     const uint32_t *T = c->tets;
@@ -344,6 +351,7 @@ gtet_status chk_euler_links(chk_ctx *c)
         st = chk_oom(c);
         goto done;
     }
+    c->stage = "links";
     int64_t *n_edges = cnt, *n_facets = cnt + nv, *n_tets = cnt + 2 * nv, *n_comp = cnt + 3 * nv;
     static const int ep[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
     /* distinct edges: filed under their smaller vertex, each bucket sorted */
@@ -394,16 +402,21 @@ gtet_status chk_euler_links(chk_ctx *c)
                 }
                 for (int j = 0; j < 4; j++)
                     if (T[4 * (size_t)u + j] == T[4 * t + i]) {
-                        uint32_t r1 = uf_find(parent, (uint32_t)(4 * t + i));
-                        uint32_t r2 = uf_find(parent, 4 * u + (uint32_t)j);
+                        uint32_t r1 = chk_find(parent, (uint32_t)(4 * t + i));
+                        uint32_t r2 = chk_find(parent, 4 * u + (uint32_t)j);
                         if (r1 != r2) parent[r1 > r2 ? r1 : r2] = r1 > r2 ? r2 : r1;
                     }
             }
         }
     for (size_t x = 0; x < 4 * nt; x++)
-        if (uf_find(parent, (uint32_t)x) == x) n_comp[T[x]]++;
+        if (chk_find(parent, (uint32_t)x) == x) n_comp[T[x]]++;
+    int64_t nused = 0;
     for (size_t v = 0; v < nv; v++) {
+        if (c->unused && c->unused[v]) continue;  /* in no tet (a copy, chk_inputs) */
+        nused++;
+        uint32_t id = (uint32_t)v;
         if (n_comp[v] != 1) {
+            chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &id);
             st = chk_fail(c, "the link of vertex %zu falls into %lld pieces: the tets around it "
                           "do not form one ball", v, (long long)n_comp[v]);
             goto done;
@@ -411,17 +424,20 @@ gtet_status chk_euler_links(chk_ctx *c)
         int64_t chi = n_edges[v] - n_facets[v] + n_tets[v];
         int64_t want = on_hull[v] ? 1 : 2;
         if (chi != want) {
+            chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &id);
             st = chk_fail(c, "the link of %s vertex %zu has Euler characteristic %lld, not %lld: "
                           "it is not a %s", on_hull[v] ? "hull" : "interior", v, (long long)chi,
                           (long long)want, on_hull[v] ? "disk" : "sphere");
             goto done;
         }
     }
-    int64_t euler = (int64_t)nv - E + F - (int64_t)nt;
+    int64_t euler = nused - E + F - (int64_t)nt;
     c->report->euler = (int)euler;
+    c->stage = "euler";
     if (euler != 1)
-        st = chk_fail(c, "V - E + F - T = %zu - %lld + %lld - %zu = %lld, not 1: the tets do not "
-                      "form a ball", nv, (long long)E, (long long)F, nt, (long long)euler);
+        st = chk_fail(c, "V - E + F - T = %lld - %lld + %lld - %zu = %lld, not 1: the tets do not "
+                      "form a ball", (long long)nused, (long long)E, (long long)F, nt,
+                      (long long)euler);
 done:
     free(cnt);
     free(start);
