@@ -37,7 +37,7 @@ typedef struct msh {
     int version;                 /* 41 or 22, once $MeshFormat was read */
     int binary;
     size_t dsize;                /* width of the size_t fields of 4.1 binary: 4 or 8 */
-    int have_nodes;
+    int have_nodes, have_elements;
     uint64_t *ntag;              /* node tags, in file order */
     double *xyz;                 /* their coordinates */
     size_t nv;
@@ -648,8 +648,10 @@ static io_status sections(msh *m)
                            excerpt(ts, te, ex));
         if (tok_is(ts, te, "$MeshFormat")) s = sec_format(m);
         else if (tok_is(ts, te, "$Nodes")) s = m->version == 41 ? sec_nodes41(m) : sec_nodes22(m);
+        else if (tok_is(ts, te, "$Elements") && m->have_elements)
+            s = fail_at(m, at, "a second $Elements section");
         else if (tok_is(ts, te, "$Elements"))
-            s = m->version == 41 ? sec_elements41(m) : sec_elements22(m);
+            s = (m->have_elements = 1, m->version == 41 ? sec_elements41(m) : sec_elements22(m));
         else if (tok_is(ts, te, "$Entities") && m->version == 41 && m->binary)
             s = sec_entities_bin(m);
         else s = skip_section(m, ts, te);
@@ -658,6 +660,7 @@ static io_status sections(msh *m)
     if (!m->version)
         return fail_at(m, m->at, "not a Gmsh mesh: no $MeshFormat (the file is empty)");
     if (!m->have_nodes) return fail_at(m, m->at, "the file has no $Nodes section");
+    if (!m->have_elements) return fail_at(m, m->at, "the file has no $Elements section");
     return IO_OK;
 }
 
