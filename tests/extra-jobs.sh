@@ -74,7 +74,7 @@ job_fuzz() {
     run cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
         -DCMAKE_BUILD_TYPE=Release -DGTET_FUZZ=ON -DBUILD_TESTING=OFF -DGTET_CGAL_TESTS=OFF \
         -DGTET_WERROR=ON >/dev/null || return 1
-    local targets=(fuzz_predicates fuzz_triangulate fuzz_readers) t rc=0
+    local targets=(fuzz_predicates fuzz_triangulate fuzz_readers fuzz_mesh_check) t rc=0
     run cmake --build build-fuzz -j "$jobs" --target "${targets[@]}" >/dev/null || return 1
     mkdir -p build-fuzz/findings
     for t in "${targets[@]}"; do
