@@ -42,6 +42,7 @@ long cli_max_rss_bytes(void);  /* getrusage ru_maxrss in bytes */
 
 int cli_triangulate(int argc, char **argv);
 int cli_check(int argc, char **argv);
+int cli_diff(int argc, char **argv);
 int cli_generate(int argc, char **argv);
 
 #endif

@@ -1,4 +1,5 @@
-/* cmd_check_generate.c -- `gigatet check MESH [--points INPUT] [--full] [-q]` and
+/* cmd_check_generate.c -- `gigatet check MESH [--points INPUT] [--delaunay] [--any-orientation]
+ * [--full] [--json] [-q]` and
  * `gigatet generate KIND N [--seed S] -o FILE [-q]`.
  *
  * check reads the mesh back (io_read_mesh: .ele with its .node, .msh, .vtu; every vertex id is
@@ -7,72 +8,118 @@
  * generate writes the points of io_generate atomically.
  */
 #include "cli.h"
+#include "json.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-int cli_check(int argc, char **argv)
+typedef struct check_args {
+    const char *mesh, *points;
+    unsigned flags;
+    int quiet, json;
+} check_args;
+
+static int check_parse(int argc, char **argv, check_args *a)
 {
-    const char *mesh_path = NULL, *points = NULL, *val;
-    int full = 0, quiet = 0, r;
+    const char *val;
+    int r;
+    memset(a, 0, sizeof *a);
     for (int i = 0; i < argc; i++) {
-        const char *a = argv[i];
+        const char *s = argv[i];
         if ((r = cli_opt_value(argc, argv, &i, "--points", &val))) {
             if (r < 0) return cli_usage("option --points needs a file name");
-            points = val;
-        } else if (!strcmp(a, "--full")) {
-            full = 1;
-        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-            quiet = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return cli_usage("check: unknown option '%s'", a);
-        } else if (!mesh_path) {
-            mesh_path = a;
+            a->points = val;
+        } else if (!strcmp(s, "--full")) {
+            a->flags |= GTET_CHECK_FULL;
+        } else if (!strcmp(s, "--delaunay")) {
+            a->flags |= GTET_CHECK_DELAUNAY;
+        } else if (!strcmp(s, "--any-orientation")) {
+            a->flags |= GTET_CHECK_ANY_ORIENTATION;
+        } else if (!strcmp(s, "--json")) {
+            a->json = 1;
+        } else if (!strcmp(s, "-q") || !strcmp(s, "--quiet")) {
+            a->quiet = 1;
+        } else if (s[0] == '-' && s[1] != '\0') {
+            return cli_usage("check: unknown option '%s'", s);
+        } else if (!a->mesh) {
+            a->mesh = s;
         } else {
-            return cli_usage("check: more than one mesh file ('%s', '%s')", mesh_path, a);
+            return cli_usage("check: more than one mesh file ('%s', '%s')", a->mesh, s);
         }
     }
-    if (!mesh_path) return cli_usage("check: no mesh file");
-    io_format mf = io_format_of(mesh_path);
+    if (!a->mesh) return cli_usage("check: no mesh file");
+    io_format mf = io_format_of(a->mesh);
     if (mf != IO_FMT_ELE && mf != IO_FMT_MSH && mf != IO_FMT_VTU)
-        return cli_usage("%s: check reads .ele (with its .node), .msh or .vtu meshes", mesh_path);
+        return cli_usage("%s: check reads .ele (with its .node), .msh or .vtu meshes", a->mesh);
+    return CLI_OK;
+}
 
+/* The JSON report of `check --json` (one object on stdout, also for an unreadable file). */
+static void check_json(const check_args *a, const char *status, const io_mesh *m,
+                       const gtet_check_report *r, int failed, const char *message, double t)
+{
+    fputs("{\"file\":", stdout);
+    cli_json_str(stdout, a->mesh);
+    fputs(",\"points_file\":", stdout);
+    cli_json_str(stdout, a->points);
+    fprintf(stdout, ",\"status\":\"%s\",\"any_orientation\":%s,\"full\":%s,", status,
+            (a->flags & GTET_CHECK_ANY_ORIENTATION) ? "true" : "false",
+            (a->flags & GTET_CHECK_FULL) ? "true" : "false");
+    if (r) {
+        fprintf(stdout, "\"vertices\":%zu,\"skipped_cells\":%zu,", m->nv, m->skipped_cells);
+        cli_json_check_members(stdout, r, failed);
+        fprintf(stdout, ",\"seconds\":%.3f}\n", t);
+    } else {
+        fprintf(stdout, "\"ok\":false,\"mode\":\"%s\",\"message\":",
+                (a->flags & GTET_CHECK_DELAUNAY) ? "delaunay" : "canonical");
+        cli_json_str(stdout, message);
+        fputs(",\"violation\":null}\n", stdout);
+    }
+}
+
+int cli_check(int argc, char **argv)
+{
+    check_args a;
+    int rc = check_parse(argc, argv, &a);
+    if (rc != CLI_OK) return rc;
     io_error ioe;
     io_status is;
     io_mesh m;
     double *xyz = NULL;
     size_t n = 0;
-    if ((is = io_read_mesh(mesh_path, &m, &ioe)) != IO_OK) {
+    if ((is = io_read_mesh(a.mesh, &m, &ioe)) != IO_OK ||
+        (a.points && (is = io_read_points(a.points, &xyz, &n, &ioe)) != IO_OK)) {
         cli_error("%s", ioe.message);
-        return cli_exit_of_io(is);
-    }
-    if (points && (is = io_read_points(points, &xyz, &n, &ioe)) != IO_OK) {
-        cli_error("%s", ioe.message);
+        if (a.json) check_json(&a, "unreadable", NULL, NULL, 1, ioe.message, 0);
         io_mesh_free(&m);
         return cli_exit_of_io(is);
     }
+    const char *mode = (a.flags & GTET_CHECK_DELAUNAY) ? "delaunay" : "canonical";
     gtet_check_report rep;
-    memset(&rep, 0, sizeof rep);
     double t0 = cli_now();
-    gtet_status gs = gtet_check_arrays(m.vertices, m.nv, m.tets, m.nt, NULL, xyz, n,
-                                       full ? GTET_CHECK_FULL : 0u, &rep);
+    gtet_status gs = gtet_check_arrays(m.vertices, m.nv, m.tets, m.nt, NULL, xyz, n, a.flags, &rep);
     double t = cli_now() - t0;
-    int rc = CLI_OK;
-    if (gs == GTET_OK && rep.ok) {
-        if (!quiet)
-            printf("check=ok vertices=%zu tets=%zu facets_checked=%llu hull_facets=%llu "
-                   "duplicates=%llu euler=%d full=%d seconds=%.3f\n", m.nv, m.nt,
-                   (unsigned long long)rep.facets_checked, (unsigned long long)rep.hull_facets,
-                   (unsigned long long)rep.duplicates, rep.euler, full, t);
-    } else if (gs == GTET_OK || gs == GTET_ERR_CHECK_FAILED) {
-        cli_error("%s: check failed: %s", mesh_path, rep.message[0] ? rep.message : "an invariant does not hold");
-        rc = CLI_CHECK_FAILED;
-    } else {
-        cli_error("%s: %s%s%s", mesh_path, gtet_status_str(gs), rep.message[0] ? ": " : "",
+    int ok = gs == GTET_OK && rep.ok;
+    rc = ok ? CLI_OK : gs == GTET_ERR_OUT_OF_MEMORY ? CLI_NOMEM : CLI_CHECK_FAILED;
+    if (ok && !a.quiet && !a.json)
+        printf("check=ok mode=%s vertices=%zu tets=%zu facets_checked=%llu hull_facets=%llu "
+               "duplicates=%llu negative_tets=%llu unused_vertices=%llu cospherical_facets=%llu "
+               "coplanar_hull_edges=%llu skipped_cells=%zu euler=%d full=%d seconds=%.3f\n",
+               mode, m.nv, m.nt, (unsigned long long)rep.facets_checked,
+               (unsigned long long)rep.hull_facets, (unsigned long long)rep.duplicates,
+               (unsigned long long)rep.negative_tets, (unsigned long long)rep.unused_vertices,
+               (unsigned long long)rep.cospherical_facets,
+               (unsigned long long)rep.coplanar_hull_edges, m.skipped_cells, rep.euler,
+               (a.flags & GTET_CHECK_FULL) != 0, t);
+    if (!ok && (gs == GTET_OK || gs == GTET_ERR_CHECK_FAILED))
+        cli_error("%s: check failed (%s): %s", a.mesh, mode,
+                  rep.message[0] ? rep.message : "an invariant does not hold");
+    else if (!ok)
+        cli_error("%s: %s%s%s", a.mesh, gtet_status_str(gs), rep.message[0] ? ": " : "",
                   rep.message);
-        rc = gs == GTET_ERR_OUT_OF_MEMORY ? CLI_NOMEM : CLI_CHECK_FAILED;
-    }
+    if (a.json) check_json(&a, ok ? "ok" : gs == GTET_ERR_CHECK_FAILED ? "check_failed" : "error",
+                           &m, &rep, !ok, NULL, t);
     io_mesh_free(&m);
     free(xyz);
     return rc;

@@ -1,7 +1,8 @@
 /* main.c -- the gigatet command-line tool: dispatch, help, version, shared helpers.
  *
  *   gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check] [--stats] [-q]
- *   gigatet check MESH.ele [--points INPUT] [--full] [-q]
+ *   gigatet check MESH [--points INPUT] [--delaunay] [--any-orientation] [--full] [--json] [-q]
+ *   gigatet diff A B [--points INPUT] [--groups N] [--json] [-q]
  *   gigatet generate KIND N [--seed S] -o FILE [-q]
  *   gigatet --help | --version
  *
@@ -22,7 +23,9 @@ static const char help_text[] =
     "\n"
     "Usage:\n"
     "  gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check] [--stats] [-q]\n"
-    "  gigatet check MESH [--points INPUT] [--full] [-q]\n"
+    "  gigatet check MESH [--points INPUT] [--delaunay] [--any-orientation] [--full]\n"
+    "                [--json] [-q]\n"
+    "  gigatet diff A B [--points INPUT] [--groups N] [--json] [-q]\n"
     "  gigatet generate KIND N [--seed S] -o FILE [-q]\n"
     "  gigatet --help | --version\n"
     "\n"
@@ -34,9 +37,22 @@ static const char help_text[] =
     "  --check      verify the result with the exact checker before writing it\n"
     "  --stats      print a JSON object of statistics after the summary line\n"
     "  -q           print nothing but errors\n"
-    "check        Verify a mesh (.ele with its .node, .msh or .vtu) with the exact checker.\n"
-    "  --points INPUT  also check that every point of INPUT is a vertex or a duplicate\n"
+    "check        Verify a mesh (.ele with its .node, .msh 2.2/4.1, .vtu) with the exact\n"
+    "             checker.  By default the mesh must be THE canonical Delaunay mesh (ties\n"
+    "             broken by the symbolic perturbation, as gigatet and CGAL do).\n"
+    "  --points INPUT  also check that every point of INPUT is a vertex (matched by\n"
+    "                  coordinates) or a duplicate of one\n"
+    "  --delaunay      judge the Delaunay property itself, ties allowed: any tool's\n"
+    "                  Delaunay mesh passes\n"
+    "  --any-orientation  accept and count negatively oriented tets (flat ones fail)\n"
     "  --full          add the O(n*m) empty-sphere test (small meshes only)\n"
+    "  --json          print one JSON report on stdout (mode, counts, first violation)\n"
+    "diff         Compare two meshes of one point set as sets of tets over coordinates:\n"
+    "             exit 0 identical, 5 different, and say how (tie-breaking of co-spherical\n"
+    "             groups, listed; or which side is not Delaunay; or different points).\n"
+    "  --points INPUT  check both against the input points too\n"
+    "  --groups N      list at most N groups (default 10; 0 = all)\n"
+    "  --json          print one JSON report on stdout\n"
     "generate     Write about N points of KIND to FILE (.xyz, .node, .ply or .bin).\n"
     "  --seed S     seed of the random kinds (default 1)\n"
     "\n"
@@ -47,7 +63,8 @@ static const char help_text[] =
     "\n"
     "Exit codes: 0 ok, 1 usage, 2 bad input file or data (or unwritable output),\n"
     "3 degenerate input (all points coplanar, collinear or fewer than 4 distinct),\n"
-    "4 out of memory, 5 check failed.  A failed run leaves no partial output file.\n"
+    "4 out of memory, 5 check failed (diff: the meshes differ).  A failed run leaves no\n"
+    "partial output file.\n"
     "\n"
     "Generator kinds:\n";
 
@@ -171,6 +188,7 @@ int main(int argc, char **argv)
         }
     if (!strcmp(cmd, "triangulate")) return cli_triangulate(argc - 2, argv + 2);
     if (!strcmp(cmd, "check")) return cli_check(argc - 2, argv + 2);
+    if (!strcmp(cmd, "diff")) return cli_diff(argc - 2, argv + 2);
     if (!strcmp(cmd, "generate")) return cli_generate(argc - 2, argv + 2);
-    return cli_usage("unknown command '%s' (triangulate, check, generate)", cmd);
+    return cli_usage("unknown command '%s' (triangulate, check, diff, generate)", cmd);
 }
