@@ -118,3 +118,13 @@ else()
   message(STATUS "gigatet: the library does not define gtet_triangulate yet; "
                  "gtet_dt and the gigatet-vs-CGAL tests are not built")
 endif()
+
+# CGAL's meshes of a grid and a co-spherical set through `gigatet check` (canonical and
+# --delaunay) and `gigatet diff` (identical to gigatet's; TetGen's grid mesh: ties).
+if(TARGET gigatet_cli)
+  find_program(GTET_BASH bash)
+  add_test(NAME check_and_diff_accept_cgal_meshes
+           COMMAND ${GTET_BASH} ${GTET_CGAL_DIR}/check_diff_cgal.sh $<TARGET_FILE:gigatet_cli>
+                   $<TARGET_FILE:cgal_dt>)
+  set_tests_properties(check_and_diff_accept_cgal_meshes PROPERTIES LABELS "${_labels}" TIMEOUT 300)
+endif()
