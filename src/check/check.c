@@ -3,8 +3,9 @@
  *
  * What a passing check proves (the argument is spread over the stages; each stage's file says
  * which part it establishes):
- *   1. (here) the vertices are pairwise distinct finite points, every vertex lies in some tet,
- *      and, when the input is given, the vertex set equals the set of distinct input points;
+ *   1. (here) the vertices in tets are pairwise distinct finite points, every vertex lies in
+ *      some tet or repeats the point of one that does, and, when the input is given, the
+ *      vertex set equals the set of distinct input points (matched by coordinates);
  *   2. (check_geom.c) every tet is positively oriented;
  *   3. (check_topo.c) every facet lies in one tet (hull) or two tets on opposite sides; the
  *      hull facets form a closed oriented surface; every vertex link is a sphere or a disk;
@@ -18,6 +19,20 @@
  *      (a locally regular triangulation of a point set is regular: Edelsbrunner; De Loera,
  *      Rambau & Santos, Triangulations, ch. 2) the mesh is THE perturbed Delaunay
  *      tetrahedrization of the vertices, the unique one CGAL also builds.
+ * Closed mode (GTET_CHECK_DELAUNAY) replaces the perturbed signs of 4 and 5 by the plain ones:
+ * the hull convex in the weak sense (no hull vertex beyond a neighbouring hull facet's plane;
+ * coplanar allowed) and every interior facet locally Delaunay in the closed sense (the apex
+ * across it not strictly inside the tet's circumsphere).  Stages 1-3 and 4(b)-(c) are the
+ * same, so the tets still tile conv(vertices) with every vertex used.  Lift each vertex p to
+ * (p, |p|^2); the piecewise-linear function F on conv(vertices) that interpolates the lifts on
+ * each tet is convex across every interior facet (that is what closed local Delaunay says), so
+ * F is convex on the convex domain, and the affine function of any tet is <= F everywhere, in
+ * particular at every vertex: no vertex is strictly inside any tet's circumsphere, which is the
+ * Delaunay property (Delaunay's lemma with ties; Edelsbrunner, Geometry and Topology for Mesh
+ * Generation, ch. 1).  Ties are counted (co-spherical facets, coplanar hull edges).
+ * GTET_CHECK_ANY_ORIENTATION turns each negative tet positive (check_geom.c) before stage 3.
+ * A vertex in no tet is accepted only as a copy of a vertex that is in one: the mesh's point
+ * set is unchanged by it, and it takes no part in stages 2-5.
  * The volume comparison and the optional full empty-sphere test are redundant cross-checks.
  * Every sign is exact: the GMP oracle's, first tried in interval arithmetic (check_filter.c,
  * which only returns signs it proves; GTET_CHECK_NO_FILTER skips it).  Linear in the mesh size
