@@ -137,6 +137,11 @@ typedef struct gtet_options {
     void *message_user;
     /* When not NULL, filled with the details of any failure. */
     gtet_error *error;
+    /* Nonzero: record every decision of the symbolic perturbation (gtet_mesh_degeneracies);
+     * default 0.  Costs nothing when off. */
+    int degeneracies;
+    /* Records stored at most when recording (their total count stays exact); default 100000. */
+    size_t degeneracy_limit;
 } gtet_options;
 
 /* Fill *opts with the defaults above. */
@@ -164,6 +169,47 @@ const uint32_t *gtet_mesh_input_map(const gtet_mesh *mesh);
 const uint32_t *gtet_mesh_tets(const gtet_mesh *mesh);
 /* 4*nt tet ids: neighbor[4*t+f] is across the facet opposite tets[4*t+f], or GTET_NO_TET. */
 const uint32_t *gtet_mesh_neighbors(const gtet_mesh *mesh);
+
+/* One decision of the symbolic perturbation during gtet_triangulate (opts.degeneracies): an
+ * exact zero the kernel met and the sign the perturbation gave it.  Vertex ids are mesh ids
+ * (gtet_mesh_vertices), in the predicate's argument order, so that, with v_i the coordinates
+ * of vertex[i],
+ *   GTET_DEGENERACY_COSPHERICAL: gtet_insphere(v0, v1, v2, v3, v4) == 0 (five co-spherical
+ *     points; v0..v3 is a tet of the mesh under construction, gtet_orient3d > 0) and
+ *     sign == gtet_insphere_sos(v0, v1, v2, v3, v4): +1 when v4 conflicts with that tet;
+ *   GTET_DEGENERACY_COPLANAR (the hull rule): v3 lies in the plane of the hull facet
+ *     (v0, v1, v2) and on its circumcircle (gtet_orient3d(v0, v1, v2, v3) == 0, and
+ *     gtet_insphere(v0, v1, v2, v3, x) == 0 for every x), and sign ==
+ *     gtet_ghost_conflict(v0, v1, v2, v3): +1 when v3 is inside the perturbed circle (it
+ *     conflicts with the ghost tet on that facet); vertex[4] is GTET_NO_VERTEX.
+ * term: the term of the perturbation's expansion that decided, 1..4 (the one counted in
+ * gtet_pred_counters.sos_depth[term-1]; insphere uses 1-2, and 3 only if v0..v3 were flat). */
+#define GTET_NO_VERTEX UINT32_MAX
+typedef enum gtet_degeneracy_kind {
+    GTET_DEGENERACY_COSPHERICAL = 1,   /* insphere == 0: five points, one sphere */
+    GTET_DEGENERACY_COPLANAR = 2       /* hull rule: a point on a hull facet's circle */
+} gtet_degeneracy_kind;
+typedef struct gtet_degeneracy {
+    int kind;               /* gtet_degeneracy_kind */
+    int npoints;            /* 5 (co-spherical) or 4 (coplanar) */
+    uint32_t vertex[5];     /* mesh vertex ids, argument order; unused entries GTET_NO_VERTEX */
+    int term;               /* 1..4 */
+    int sign;               /* +1 or -1: the perturbed predicate's value */
+} gtet_degeneracy;
+
+/* The decisions recorded when the mesh was built with opts.degeneracies (else NULL, and 0
+ * in both counts).  *total (may be NULL) receives how many decisions the run made: it equals
+ * gtet_stats.pred.sos_calls, and as many have term k as sos_depth[k-1] says.  The returned
+ * array, owned by the mesh, holds *stored (may be NULL) = min(total, opts.degeneracy_limit)
+ * of them, sorted by kind, then vertex ids in order, then term and sign (a tuple the kernel
+ * tested twice appears twice).  With one thread the run is deterministic, and so is the list.
+ * With several, which insertions are tried, deferred and retried depends on the schedule, so
+ * the decisions (tuples and counts) can differ from run to run while the mesh never does; the
+ * order depends only on the set of records.  Truncated, the list keeps each thread's first
+ * `limit` decisions (each thread records in its own order) and then the smallest in the
+ * order above. */
+const gtet_degeneracy *gtet_mesh_degeneracies(const gtet_mesh *mesh, size_t *stored,
+                                              uint64_t *total);
 
 /* Per-round record of the parallel insertion. */
 typedef struct gtet_round_stats {

@@ -26,4 +26,6 @@ void gtet_options_init(gtet_options *opts)
     opts->threads = 0;
     opts->verbosity = 0;
     opts->check = 0;
+    opts->degeneracies = 0;
+    opts->degeneracy_limit = 100000;
 }

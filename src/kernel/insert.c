@@ -118,8 +118,8 @@ static inline int conflicts(kctx *c, uint32_t t, const double *p)
     const kmesh *m = c->m;
     const uint32_t *v = m->tv + 4 * (size_t)t;
     if (v[3] == KM_GHOST)
-        return pred_ghost_conflict(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
-                                   &c->cnt) > 0;
+        return pred_ghost_conflict_log(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
+                                       &c->cnt, c->sos_log) > 0;
     const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
     const double *d = km_pt(m, v[3]);
     /* the filter inline (most calls stop here); the full chain counts its own call */
@@ -129,7 +129,7 @@ static inline int conflicts(kctx *c, uint32_t t, const double *p)
         c->cnt.insphere_calls++;
         return s > 0;
     }
-    return pred_insphere_sos_rest(a, b, cc, d, p, &m->ps, minors, &c->cnt) > 0;
+    return pred_insphere_sos_rest_log(a, b, cc, d, p, &m->ps, minors, &c->cnt, c->sos_log) > 0;
 }
 
 /* orient3d of tet t with its vertex f replaced by p (t finite). */

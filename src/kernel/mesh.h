@@ -57,6 +57,8 @@ typedef struct kctx {
      * parallel pass about 10%, NOTES.md 2026-11-23) */
     _Alignas(64) kmesh *m;
     pred_counters cnt;
+    pred_sos_log *sos_log;  /* this thread's record of the perturbation's decisions, or NULL
+                               (gtet_options.degeneracies off) */
     uint32_t *cav;      /* deleted tets of the current cavity */
     size_t cav_cap;
     kbound *bnd;        /* boundary facets of the current cavity */

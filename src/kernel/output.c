@@ -13,6 +13,7 @@ void gtet_mesh_free(gtet_mesh **mesh)
     free(m->tets);
     free(m->neighbors);
     free(m->rounds);
+    free(m->degen);
     free(m);
     *mesh = NULL;
 }
@@ -26,6 +27,14 @@ const double *gtet_mesh_vertices(const gtet_mesh *m) { return m ? m->vertices : 
 const uint32_t *gtet_mesh_input_map(const gtet_mesh *m) { return m ? m->input_map : NULL; }
 const uint32_t *gtet_mesh_tets(const gtet_mesh *m) { return m ? m->tets : NULL; }
 const uint32_t *gtet_mesh_neighbors(const gtet_mesh *m) { return m ? m->neighbors : NULL; }
+
+const gtet_degeneracy *gtet_mesh_degeneracies(const gtet_mesh *m, size_t *stored,
+                                              uint64_t *total)
+{
+    if (stored) *stored = m ? m->n_degen : 0;
+    if (total) *total = m ? m->degen_total : 0;
+    return m && m->n_degen ? m->degen : NULL;
+}
 
 void gtet_mesh_stats(const gtet_mesh *m, gtet_stats *stats)
 {

@@ -21,6 +21,9 @@ struct gtet_mesh {
     uint32_t *neighbors;      /* 4 * n_tets, GTET_NO_TET on the hull */
     gtet_stats stats;
     gtet_round_stats *rounds; /* stats.num_rounds records */
+    gtet_degeneracy *degen;   /* n_degen recorded decisions (gtet_mesh_degeneracies), or NULL */
+    size_t n_degen;
+    uint64_t degen_total;     /* decisions made while recording (stored or not) */
 };
 
 #endif

@@ -35,6 +35,62 @@ static void add_counters(gtet_pred_counters *s, const gtet_pred_counters *a)
     for (int i = 0; i < 4; i++) s->sos_depth[i] += a->sos_depth[i];
 }
 
+/* A thread's log of the perturbation's decisions, on cache lines of its own: a thread writes
+ * its log at every decision (about 15 per point on an integer grid), and two threads' logs
+ * must not share a line. */
+typedef struct klog {
+    _Alignas(64) pred_sos_log log;
+} klog;
+
+/* Order of the merged degeneracy records: kind, vertex ids in argument order, term, sign. */
+static int cmp_degeneracy(const void *pa, const void *pb)
+{
+    const gtet_degeneracy *a = pa, *b = pb;
+    if (a->kind != b->kind) return a->kind < b->kind ? -1 : 1;
+    for (int i = 0; i < 5; i++)
+        if (a->vertex[i] != b->vertex[i]) return a->vertex[i] < b->vertex[i] ? -1 : 1;
+    if (a->term != b->term) return a->term < b->term ? -1 : 1;
+    return (a->sign > b->sign) - (a->sign < b->sign);
+}
+
+/* The threads' logs of the perturbation's decisions -> res->degen: internal ids mapped to
+ * mesh ids (internal id i is mesh vertex order[i]), sorted, the first `limit` kept.  Each log
+ * counted every decision its thread's counters did (sos.c: decided), so the totals must
+ * agree with sos_calls, the sum of those counters; anything else is a broken invariant. */
+static gtet_status merge_degeneracies(gtet_mesh *res, const klog *logs, int threads,
+                                      const uint32_t *order, size_t limit, uint64_t sos_calls)
+{
+    uint64_t total = 0;
+    size_t n = 0;
+    for (int k = 0; k < threads; k++) {
+        if (logs[k].log.failed & PRED_SOS_LOG_FOREIGN) return GTET_ERR_INTERNAL;
+        if (logs[k].log.failed) return GTET_ERR_OUT_OF_MEMORY;
+        total += logs[k].log.total;
+        n += logs[k].log.n;
+    }
+    if (total != sos_calls) return GTET_ERR_INTERNAL;
+    res->degen_total = total;
+    if (n == 0) return GTET_OK;
+    gtet_degeneracy *all = malloc(n * sizeof *all);
+    if (!all) return GTET_ERR_OUT_OF_MEMORY;
+    size_t j = 0;
+    for (int k = 0; k < threads; k++)
+        for (size_t i = 0; i < logs[k].log.n; i++) {
+            gtet_degeneracy r = logs[k].log.rec[i];
+            for (int q = 0; q < r.npoints; q++) r.vertex[q] = order[r.vertex[q]];
+            all[j++] = r;
+        }
+    qsort(all, n, sizeof *all, cmp_degeneracy);
+    if (n > limit) {
+        n = limit;
+        gtet_degeneracy *shrunk = realloc(all, (n ? n : 1) * sizeof *all);
+        if (shrunk) all = shrunk;
+    }
+    res->degen = all;
+    res->n_degen = n;
+    return GTET_OK;
+}
+
 static gtet_status fail(gtet_error *err, gtet_status s, const char *what)
 {
     if (err && err->status != s) kval_error(err, s, SIZE_MAX, -1, "%s: %s", what, gtet_status_str(s));
@@ -158,6 +214,19 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     memset(&P, 0, sizeof P);
     if (!ctx) s = GTET_ERR_OUT_OF_MEMORY;
     for (int k = 0; ctx && k < threads; k++) kctx_init(&ctx[k], &m, (uint64_t)k + 1);
+    /* one log per thread (no sharing, no locks); their points are the sorted copy sv */
+    klog *logs = NULL;
+    if (opts.degeneracies && ctx) {
+        logs = aligned_alloc(_Alignof(klog), (size_t)threads * sizeof *logs);
+        if (!logs) s = GTET_ERR_OUT_OF_MEMORY;
+        for (int k = 0; logs && k < threads; k++) {
+            memset(&logs[k], 0, sizeof logs[k]);
+            logs[k].log.base = sv;
+            logs[k].log.nv = nv;
+            logs[k].log.limit = opts.degeneracy_limit;
+            ctx[k].sos_log = &logs[k].log;
+        }
+    }
     if (s == GTET_OK) {
         s = kpar_init(&P, &m, ctx, threads, bkeys, bbits);  /* owns bkeys from here */
     } else {
@@ -199,6 +268,13 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n4 > 262144)
         for (size_t i = 0; i < n4; i++) tv[i] = order[tv[i]];
     }
+    if (s == GTET_OK && logs) {
+        uint64_t sos_calls = cnt0.sos_calls;
+        for (int k = 0; k < threads; k++) sos_calls += ctx[k].cnt.sos_calls;
+        s = merge_degeneracies(res, logs, threads, order, opts.degeneracy_limit, sos_calls);
+    }
+    for (int k = 0; logs && k < threads; k++) free(logs[k].log.rec);
+    free(logs);
     free(order);
     free(sv);
     add_counters(&res->stats.pred, &cnt0);

@@ -91,6 +91,38 @@ int pred_insphere_sos(const double *a, const double *b, const double *c, const d
 int pred_ghost_conflict(const double *a, const double *b, const double *c, const double *e,
                         pred_counters *cnt);
 
+/* A record of the perturbation's decisions (gtet_options.degeneracies), one per thread: the
+ * functions below append to it without synchronisation.  Every decision counted in
+ * cnt->sos_calls adds one to `total` and, while fewer than `limit` are stored, one record:
+ * its kind, the points' ids in the predicate's argument order (a point's id is its index in
+ * base, 3 doubles per point), the term that decided (1-based: the one counted in
+ * sos_depth[term-1]) and the sign returned. */
+typedef struct pred_sos_log {
+    const double *base;     /* the point set every recorded point belongs to */
+    size_t nv;              /* its points */
+    size_t limit;           /* records stored at most */
+    gtet_degeneracy *rec;   /* the first min(total, limit) decisions, in the order made */
+    size_t n, cap;
+    uint64_t total;         /* decisions made */
+    int failed;             /* 0, or the bits PRED_SOS_LOG_NOMEM (an allocation failed:
+                               records were lost) and PRED_SOS_LOG_FOREIGN (a point was not
+                               one of base's: its id is UINT32_MAX) */
+} pred_sos_log;
+#define PRED_SOS_LOG_NOMEM 1
+#define PRED_SOS_LOG_FOREIGN 2
+
+/* Append one decision (called by the functions below when their log is not NULL). */
+void pred_sos_log_add(pred_sos_log *log, int kind, const double *const *p, int np, int term,
+                      int sign);
+
+/* pred_insphere_sos_rest and pred_ghost_conflict that record their perturbation's decisions
+ * in log (NULL: the same as those, at the cost of one untaken branch per decision). */
+int pred_insphere_sos_rest_log(const double *a, const double *b, const double *c,
+                               const double *d, const double *e, const pred_static *ps,
+                               const double *minors, pred_counters *cnt, pred_sos_log *log);
+int pred_ghost_conflict_log(const double *a, const double *b, const double *c,
+                            const double *e, pred_counters *cnt, pred_sos_log *log);
+
 /* Perturbed in-circle of e against the circle through a,b,c in their common plane (all four
  * coplanar): +1 inside, -1 outside, never 0 for distinct points with a,b,c not collinear. */
 int pred_incircle_coplanar_sos(const double *a, const double *b, const double *c,

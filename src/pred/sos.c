@@ -30,8 +30,59 @@
  *     incircle = sign(D) * o2   (+1 inside, -1 outside, 0 on the circle).
  * This equals CGAL's coplanar_side_of_bounded_circleC3 (the sphere through a,b,c and e + n,
  * n = (b-a) x (c-a), cut by P is the circle), and both are 0 when a,b,c are collinear.
+ *
+ * Every decision of the perturbation goes through decided(): it is counted (sos_calls once per
+ * call, sos_depth[term-1] for the term that decided) and, when the caller passes a log
+ * (pred_sos_log, the kernel's per-thread record of gtet_options.degeneracies), appended to it,
+ * so a log and the counters of the same calls always agree.
  */
 #include "pred_internal.h"
+
+#include <stdlib.h>
+
+void pred_sos_log_add(pred_sos_log *log, int kind, const double *const *p, int np, int term,
+                      int sign)
+{
+    log->total++;
+    if (log->n >= log->limit) return;
+    if (log->n == log->cap) {
+        size_t cap = log->cap ? log->cap * 2 : 256;
+        if (cap > log->limit) cap = log->limit;
+        gtet_degeneracy *r = realloc(log->rec, cap * sizeof *r);
+        if (!r) {
+            log->failed |= PRED_SOS_LOG_NOMEM;
+            return;
+        }
+        log->rec = r;
+        log->cap = cap;
+    }
+    gtet_degeneracy *r = &log->rec[log->n++];
+    r->kind = kind;
+    r->npoints = np;
+    for (int i = 0; i < 5; i++) {
+        uint32_t id = UINT32_MAX;
+        if (i < np) {
+            /* compare addresses as integers: p[i] need not point into base */
+            const uintptr_t b = (uintptr_t)log->base, q = (uintptr_t)p[i];
+            const uintptr_t off = q - b, size = 3 * sizeof(double);
+            if (q >= b && off % size == 0 && off / size < log->nv) id = (uint32_t)(off / size);
+            else log->failed |= PRED_SOS_LOG_FOREIGN;
+        }
+        r->vertex[i] = id;
+    }
+    r->term = term;
+    r->sign = sign;
+}
+
+/* Count a decision of the perturbation made by term `term` (1-based), record it when there is
+ * a log, and return its sign. */
+static inline int decided(pred_counters *cnt, pred_sos_log *log, int kind,
+                          const double *const *p, int np, int term, int sign)
+{
+    cnt->sos_depth[term - 1]++;
+    if (__builtin_expect(log != NULL, 0)) pred_sos_log_add(log, kind, p, np, term, sign);
+    return sign;
+}
 
 /* idx[0..n-1] = 0..n-1 sorted by increasing lexicographic rank of p[idx[i]] */
 static void lex_sort(const double *const *p, int n, int *idx)
@@ -94,8 +145,8 @@ static int incircle_coplanar_exact(const double *a, const double *b, const doubl
     return 0; /* a, b, c collinear */
 }
 
-int pred_incircle_coplanar_sos(const double *a, const double *b, const double *c,
-                               const double *e, pred_counters *cnt)
+static int incircle_coplanar_sos(const double *a, const double *b, const double *c,
+                                 const double *e, pred_counters *cnt, pred_sos_log *log)
 {
     int s = incircle_coplanar_exact(a, b, c, e);
     if (s != 0) return s;
@@ -106,20 +157,20 @@ int pred_incircle_coplanar_sos(const double *a, const double *b, const double *c
     const int local = coplanar_orientation(a, b, c);
     for (int i = 3; i > 0; i--) {
         const int k = idx[i];
-        if (k == 3) { /* e itself: outside (a,b,c are not collinear) */
-            cnt->sos_depth[3 - i]++;
-            return -1;
-        }
+        if (k == 3) /* e itself: outside (a,b,c are not collinear) */
+            return decided(cnt, log, GTET_DEGENERACY_COPLANAR, p, 4, 4 - i, -1);
         const double *q[3] = {a, b, c};
         q[k] = e; /* the leading monomial's coefficient: a,b,c with p[k] replaced by e */
         const int o = coplanar_orientation(q[0], q[1], q[2]);
-        if (o != 0) {
-            cnt->sos_depth[3 - i]++;
-            return o * local;
-        }
+        if (o != 0) return decided(cnt, log, GTET_DEGENERACY_COPLANAR, p, 4, 4 - i, o * local);
     }
-    cnt->sos_depth[3]++;
-    return -local;
+    return decided(cnt, log, GTET_DEGENERACY_COPLANAR, p, 4, 4, -local);
+}
+
+int pred_incircle_coplanar_sos(const double *a, const double *b, const double *c,
+                               const double *e, pred_counters *cnt)
+{
+    return incircle_coplanar_sos(a, b, c, e, cnt, NULL);
 }
 
 /* i1 = index of the lexicographically largest of p[0..4], i2 = of the second largest (the
@@ -188,7 +239,7 @@ static int orient_from_minors(const double *mn, int k)
  * not NULL. */
 static int insphere_perturbed(const double *a, const double *b, const double *c, const double *d,
                               const double *e, const pred_static *ps, const double *mn,
-                              pred_counters *cnt)
+                              pred_counters *cnt, pred_sos_log *log)
 {
     cnt->sos_calls++;
     const double *p[5] = {a, b, c, d, e};
@@ -203,7 +254,6 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
             /* e's own term: its coefficient is -orient3d(a,b,c,d), i.e. -1 (outside) under
              * CGAL's precondition orient3d > 0; the general form keeps the result
              * antisymmetric in (a,b,c,d) when the tet is negatively oriented. */
-            cnt->sos_depth[i]++;
             int o;
             if (mn) {
                 cnt->orient_calls++;
@@ -211,7 +261,7 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
             } else {
                 o = pred_orient3d_st(a, b, c, d, ps, cnt);
             }
-            return o != 0 ? -o : -1;
+            return decided(cnt, log, GTET_DEGENERACY_COSPHERICAL, p, 5, i + 1, o != 0 ? -o : -1);
         }
         int o;
         if (mn) {
@@ -223,13 +273,10 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
             q[k] = e;
             o = pred_orient3d_st(q[0], q[1], q[2], q[3], ps, cnt);
         }
-        if (o != 0) {
-            cnt->sos_depth[i]++;
-            return o;
-        }
+        if (o != 0) return decided(cnt, log, GTET_DEGENERACY_COSPHERICAL, p, 5, i + 1, o);
     }
-    cnt->sos_depth[2]++; /* only when orient3d(a,b,c,d) == 0 (precondition violated) */
-    return -1;
+    /* only when orient3d(a,b,c,d) == 0 (precondition violated) */
+    return decided(cnt, log, GTET_DEGENERACY_COSPHERICAL, p, 5, 3, -1);
 }
 
 int pred_insphere_sos(const double *a, const double *b, const double *c, const double *d,
@@ -237,12 +284,12 @@ int pred_insphere_sos(const double *a, const double *b, const double *c, const d
 {
     const int s = pred_insphere(a, b, c, d, e, cnt);
     if (s != 0) return s;
-    return insphere_perturbed(a, b, c, d, e, &pred_static_none, NULL, cnt);
+    return insphere_perturbed(a, b, c, d, e, &pred_static_none, NULL, cnt, NULL);
 }
 
-int pred_insphere_sos_rest(const double *a, const double *b, const double *c, const double *d,
-                           const double *e, const pred_static *ps, const double *minors,
-                           pred_counters *cnt)
+int pred_insphere_sos_rest_log(const double *a, const double *b, const double *c,
+                               const double *d, const double *e, const pred_static *ps,
+                               const double *minors, pred_counters *cnt, pred_sos_log *log)
 {
     cnt->insphere_calls++;
     if (ps->is_exact) {  /* det~ == 0 is the exact determinant */
@@ -251,13 +298,26 @@ int pred_insphere_sos_rest(const double *a, const double *b, const double *c, co
         const int s = pred_insphere_exact(a, b, c, d, e, cnt);
         if (s != 0) return s;
     }
-    return insphere_perturbed(a, b, c, d, e, ps, ps->is_exact ? minors : NULL, cnt);
+    return insphere_perturbed(a, b, c, d, e, ps, ps->is_exact ? minors : NULL, cnt, log);
+}
+
+int pred_insphere_sos_rest(const double *a, const double *b, const double *c, const double *d,
+                           const double *e, const pred_static *ps, const double *minors,
+                           pred_counters *cnt)
+{
+    return pred_insphere_sos_rest_log(a, b, c, d, e, ps, minors, cnt, NULL);
+}
+
+int pred_ghost_conflict_log(const double *a, const double *b, const double *c,
+                            const double *e, pred_counters *cnt, pred_sos_log *log)
+{
+    const int o = pred_orient3d(a, b, c, e, cnt);
+    if (o != 0) return o;
+    return incircle_coplanar_sos(a, b, c, e, cnt, log);
 }
 
 int pred_ghost_conflict(const double *a, const double *b, const double *c, const double *e,
                         pred_counters *cnt)
 {
-    const int o = pred_orient3d(a, b, c, e, cnt);
-    if (o != 0) return o;
-    return pred_incircle_coplanar_sos(a, b, c, e, cnt);
+    return pred_ghost_conflict_log(a, b, c, e, cnt, NULL);
 }
