@@ -1,6 +1,7 @@
 /* main.c -- the gigatet command-line tool: dispatch, help, version, shared helpers.
  *
- *   gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check] [--stats] [-q]
+ *   gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check] [--stats]
+ *                       [--degeneracies FILE.json [--degeneracies-limit N]] [-q]
  *   gigatet check MESH [--points INPUT] [--delaunay] [--any-orientation] [--full] [--json] [-q]
  *   gigatet diff A B [--points INPUT] [--groups N] [--json] [-q]
  *   gigatet generate KIND N [--seed S] -o FILE [-q]
@@ -22,7 +23,8 @@ static const char help_text[] =
     "gigatet %d.%d.%d -- robust, fast 3D Delaunay tetrahedrization\n"
     "\n"
     "Usage:\n"
-    "  gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check] [--stats] [-q]\n"
+    "  gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check] [--stats]\n"
+    "                      [--degeneracies FILE.json [--degeneracies-limit N]] [-q]\n"
     "  gigatet check MESH [--points INPUT] [--delaunay] [--any-orientation] [--full]\n"
     "                [--json] [-q]\n"
     "  gigatet diff A B [--points INPUT] [--groups N] [--json] [-q]\n"
@@ -36,6 +38,12 @@ static const char help_text[] =
     "  -t THREADS   worker threads, 0 = all cores (default 0; at most 1024)\n"
     "  --check      verify the result with the exact checker before writing it\n"
     "  --stats      print a JSON object of statistics after the summary line\n"
+    "  --degeneracies FILE.json\n"
+    "               write every decision of the symbolic perturbation (five co-spherical\n"
+    "               points; a point on a hull facet's circle: mesh vertex ids, coordinates,\n"
+    "               the term that decided, the sign) and the predicate counters as JSON\n"
+    "  --degeneracies-limit N\n"
+    "               store at most N decisions (default 100000; the counts stay exact)\n"
     "  -q           print nothing but errors\n"
     "check        Verify a mesh (.ele with its .node, .msh 2.2/4.1, .vtu) with the exact\n"
     "             checker.  By default the mesh must be THE canonical Delaunay mesh (ties\n"
