@@ -208,10 +208,13 @@ static void test_mesh_reader_rejects_out_of_range_ids_and_short_files(void)
     fputs("<VTKFile><UnstructuredGrid><Piece NumberOfPoints=\"4\" NumberOfCells=\"1\">\n<Points>\n"
           "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n0 0 0\n1 0 0\n"
           "0 1 0\n0 0 1\n</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" "
-          "Name=\"connectivity\" format=\"ascii\">\n0 1 2 4\n</DataArray>\n", f);
+          "Name=\"connectivity\" format=\"ascii\">\n0 1 2 4\n</DataArray>\n<DataArray "
+          "type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n4\n</DataArray>\n<DataArray "
+          "type=\"UInt8\" Name=\"types\" format=\"ascii\">\n10\n</DataArray>\n</Cells>\n"
+          "</Piece></UnstructuredGrid></VTKFile>\n", f);
     fclose(f);
-    TEST_CHECK(io_read_mesh(path, &m, &e) == IO_ERR_INPUT && strstr(e.message, "bad.vtu:12:") &&
-               strstr(e.message, "connectivity entry 3"), "bad .vtu: %s", e.message);
+    TEST_CHECK(io_read_mesh(path, &m, &e) == IO_ERR_INPUT && strstr(e.message, "bad.vtu:11:") &&
+               strstr(e.message, "refers to point 4"), "bad .vtu: %s", e.message);
     remove(path);
 }
 

@@ -428,9 +428,9 @@ static io_status file_header(vtu *v)
     char ex[48];
     if (!t || !(te = tag_end(t, v->buf + v->len)))
         return io_fail(v->err, IO_ERR_INPUT, "%s: not a VTK XML file (no <VTKFile> tag)", v->name);
-    if (!attr(t, te, "type", &b, &e) || !span_is(b, e, "UnstructuredGrid"))
-        return fail_at(v, t, "the VTKFile type is not UnstructuredGrid (the mesh reader reads "
-                       ".vtu unstructured grids)");
+    if (attr(t, te, "type", &b, &e) && !span_is(b, e, "UnstructuredGrid"))
+        return fail_at(v, t, "the VTKFile type is \"%s\", not UnstructuredGrid (the mesh "
+                       "reader reads .vtu unstructured grids)", excerpt(b, e, ex));
     if (attr(t, te, "byte_order", &b, &e) && !span_is(b, e, "LittleEndian"))
         return fail_at(v, t, "byte_order \"%s\" is not read (LittleEndian is)", excerpt(b, e, ex));
     v->hw = 4;
@@ -482,21 +482,21 @@ static int find_array(const char *p, const char *lim, const char *name, const ch
 }
 
 /* The tetrahedra of the cells: offsets as nc ends or nc+1 starts (the first 0). */
-static io_status build_cells(const vtu *v, const char *t, const varr *conn, const varr *offs,
-                             const varr *types, size_t nc, io_mesh *m)
+static io_status build_cells(const vtu *v, const char *const tag[3], const varr *conn,
+                             const varr *offs, const varr *types, size_t nc, io_mesh *m)
 {
-    if (types->n != nc) return fail_at(v, t, "NumberOfCells=\"%zu\" but %zu types", nc, types->n);
+    if (types->n != nc)
+        return fail_at(v, tag[2], "NumberOfCells=\"%zu\" but %zu types", nc, types->n);
     int starts = offs->n == nc + 1 && offs->u[0] == 0;
     if (!(offs->n == nc || starts))
-        return fail_at(v, t, "NumberOfCells=\"%zu\" but %zu types and %zu offsets", nc,
-                       types->n, offs->n);
+        return fail_at(v, tag[1], "NumberOfCells=\"%zu\" but %zu offsets", nc, offs->n);
     for (int pass = 0; pass < 2; pass++) {
         size_t nt = 0;
         uint64_t prev = 0;
         for (size_t i = 0; i < nc; i++) {
             uint64_t b = starts ? offs->u[i] : prev, e = offs->u[i + (size_t)starts];
             if (e < b || e > conn->n)
-                return fail_at(v, t, "cell %zu: offsets %llu..%llu do not lie in the %zu "
+                return fail_at(v, tag[1], "cell %zu: offsets %llu..%llu do not lie in the %zu "
                                "connectivity entries in order", i, (unsigned long long)b,
                                (unsigned long long)e, conn->n);
             prev = e;
@@ -505,12 +505,12 @@ static io_status build_cells(const vtu *v, const char *t, const varr *conn, cons
                 continue;
             }
             if (e - b != 4)
-                return fail_at(v, t, "cell %zu is a VTK_TETRA of %llu points", i,
+                return fail_at(v, tag[1], "cell %zu is a VTK_TETRA of %llu points", i,
                                (unsigned long long)(e - b));
             for (int c = 0; pass == 1 && c < 4; c++) {
                 uint64_t id = conn->u[b + (size_t)c];
                 if (id >= m->nv)
-                    return fail_at(v, t, "cell %zu refers to point %llu; NumberOfPoints is %zu",
+                    return fail_at(v, tag[0], "cell %zu refers to point %llu; NumberOfPoints is %zu",
                                    i, (unsigned long long)id, m->nv);
                 m->tets[4 * nt + (size_t)c] = (uint32_t)id;
             }
@@ -557,7 +557,7 @@ static io_status read_cells(const vtu *v, const char *p, const char *lim, uint64
                             io_mesh *m)
 {
     static const char *const names[3] = {"connectivity", "offsets", "types"};
-    const char *c = find_tag(p, lim, "Cells"), *t = NULL, *te;
+    const char *c = find_tag(p, lim, "Cells"), *t[3] = {NULL, NULL, NULL}, *te;
     const char *ce = c ? strstr(c, "</Cells") : NULL;
     varr a[3];
     io_status s = IO_OK;
@@ -567,12 +567,12 @@ static io_status read_cells(const vtu *v, const char *p, const char *lim, uint64
         return fail_at(v, p, "the <Piece> has %llu cells but no <Cells>", (unsigned long long)nc);
     }
     for (int i = 0; i < 3 && s == IO_OK; i++) {
-        if (!find_array(c, ce, names[i], &t, &te))
+        if (!find_array(c, ce, names[i], &t[i], &te))
             s = fail_at(v, c, "<Cells> has no DataArray Name=\"%s\"", names[i]);
         else
-            s = read_array(v, t, te, names[i], 0, &a[i]);
+            s = read_array(v, t[i], te, names[i], 0, &a[i]);
     }
-    if (s == IO_OK) s = build_cells(v, c, &a[0], &a[1], &a[2], (size_t)nc, m);
+    if (s == IO_OK) s = build_cells(v, t, &a[0], &a[1], &a[2], (size_t)nc, m);
     for (int i = 0; i < 3; i++) varr_free(&a[i]);
     return s;
 }
