@@ -63,7 +63,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                   "mesh not cleared on failure");
         return 0;
     }
-    FZ_ASSERT(m.vertices != NULL && m.tets != NULL, "IO_OK without arrays");
+    /* an empty array may be NULL (a .vtu with NumberOfCells="0" and no <Cells>) */
+    FZ_ASSERT((m.vertices != NULL || m.nv == 0) && (m.tets != NULL || m.nt == 0),
+              "IO_OK without arrays (nv %zu, nt %zu)", m.nv, m.nt);
     for (size_t i = 0; i < 3 * m.nv; i++)
         FZ_ASSERT(isfinite(m.vertices[i]), "IO_OK with a non-finite coordinate at %zu", i);
     for (size_t i = 0; i < 4 * m.nt; i++)
