@@ -268,15 +268,13 @@ static int gref_cmp(const void *pa, const void *pb)
     return group_cmp(a->l, a->g, b->l, b->g);
 }
 
-/* A point of the group (its smallest common id's point) and the circumcentre of a tet. */
-static void group_geometry(const side *s, const glist *l, size_t g, gtet_diff_group *out)
+/* A point of the group (its smallest common id's point: the common ids are ranks in
+ * lexicographic order; vof maps a common id to a vertex of this side) and the circumcentre of
+ * one of its tets. */
+static void group_geometry(const side *s, const uint32_t *vof, const glist *l, size_t g,
+                           gtet_diff_group *out)
 {
-    uint32_t want = l->ids[l->off[g]];
-    for (size_t v = 0; v < s->nv; v++)
-        if (s->gid[v] == want) {
-            memcpy(out->point, s->v + 3 * v, sizeof out->point);
-            break;
-        }
+    memcpy(out->point, s->v + 3 * (size_t)vof[l->ids[l->off[g]]], sizeof out->point);
     const uint32_t *t = s->t + 4 * (size_t)l->first_tet[g];
     const double *p0 = s->v + 3 * (size_t)t[0];
     double m[3][3], rhs[3];
@@ -315,12 +313,26 @@ static gtet_status match_groups(side *a, side *b, gtet_diff_report *r)
         return st;
     }
     size_t n = ga.ng + gb.ng;
+    uint32_t *vof[2] = {NULL, NULL};
     gref *all = malloc((n ? n : 1) * sizeof *all);
     r->groups = calloc(n ? n : 1, sizeof *r->groups);
     if (!all || !r->groups) {
         st = GTET_ERR_OUT_OF_MEMORY;
         goto out;
     }
+    /* common id -> a vertex of each side (both sides have every common id: same point sets) */
+    size_t nid = 0;
+    for (size_t v = 0; v < a->nv; v++)
+        if (a->gid[v] + (size_t)1 > nid) nid = a->gid[v] + (size_t)1;
+    vof[0] = malloc((nid ? nid : 1) * sizeof *vof[0]);
+    vof[1] = malloc((nid ? nid : 1) * sizeof *vof[1]);
+    if (!vof[0] || !vof[1]) {
+        st = GTET_ERR_OUT_OF_MEMORY;
+        goto out;
+    }
+    for (size_t v = 0; v < a->nv; v++) vof[0][a->gid[v]] = (uint32_t)v;
+    for (size_t v = 0; v < b->nv; v++)
+        if (b->gid[v] < nid) vof[1][b->gid[v]] = (uint32_t)v;
     for (size_t i = 0; i < ga.ng; i++) all[i] = (gref){&ga, i};
     for (size_t i = 0; i < gb.ng; i++) all[ga.ng + i] = (gref){&gb, i};
     qsort(all, n, sizeof *all, gref_cmp);
@@ -341,12 +353,14 @@ static gtet_status match_groups(side *a, side *b, gtet_diff_report *r)
                 out->tets_b += l->tets[g];
                 out->only_b += l->only[g];
             }
-            if (k == i) group_geometry(l == &ga ? a : b, l, g, out);
+            if (k == i) group_geometry(l == &ga ? a : b, vof[l == &ga ? 0 : 1], l, g, out);
         }
         i = e;
     }
     r->num_groups = ng;
 out:
+    free(vof[0]);
+    free(vof[1]);
     free(all);
     glist_free(&ga);
     glist_free(&gb);
