@@ -40,8 +40,10 @@
 
 #include <stdlib.h>
 
-void pred_sos_log_add(pred_sos_log *log, int kind, const double *const *p, int np, int term,
-                      int sign)
+/* cold and out of line: the perturbation's code stays as compact as without a log */
+__attribute__((cold, noinline)) void pred_sos_log_add(pred_sos_log *log, int kind,
+                                                      const double *const *p, int np, int term,
+                                                      int sign)
 {
     log->total++;
     if (log->n >= log->limit) return;
