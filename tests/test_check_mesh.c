@@ -2,13 +2,13 @@
  * also checks the mesh's own bookkeeping (input map, first-occurrence numbering, the reported
  * counts of points, duplicates and hull facets, the neighbor array).
  *
- * The mesh object is filled by hand here (struct gtet_mesh of src/kernel/output.h) from the
+ * The mesh object is filled by hand here (struct gtet_mesh of src/mesh/mesh.h) from the
  * brute-force perturbed Delaunay mesh of test_check_meshes.h, so the test needs no kernel.
  */
 #include <stdio.h>
 #include <string.h>
 
-#include "kernel/output.h"
+#include "mesh/mesh.h"
 #include "test_check_meshes.h"
 #include "testutil.h"
 

@@ -11,7 +11,7 @@
  */
 #include <string.h>
 
-#include "kernel/mesh.h"
+#include "kernel/kmesh.h"
 #include "testutil.h"
 
 /* the unit corner tet, and p beyond its facet x + y + z = 1 (outside its circumsphere) */

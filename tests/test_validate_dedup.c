@@ -1,4 +1,4 @@
-/* test_validate_dedup.c -- exact duplicate detection (src/kernel/validate.c): the single-table
+/* test_validate_dedup.c -- exact duplicate detection (src/validate/validate.c): the single-table
  * pass kval_dedup uses below 65536 points and the partitioned one it uses above, on 1-4
  * threads, against a definition computed here by sorting.
  *
@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "kernel/validate.h"
+#include "validate/validate.h"
 #include "testutil.h"
 
 static const double *g_pts;

@@ -1,6 +1,6 @@
-/* check_mesh.c -- gtet_check(): the exact checker on a gtet_mesh, read through the accessors of
- * src/kernel/output.h.  Kept apart from check.c so that tests of gtet_check_arrays() do not
- * need the kernel.  Besides everything gtet_check_arrays() proves, it checks the mesh's own
+/* check_mesh.c -- gtet_check(): the exact checker on a gtet_mesh, read only through the public
+ * accessors of gigatet.h (src/mesh/mesh.c).  Kept apart from check.c so that tests of
+ * gtet_check_arrays() need no mesh object.  Besides everything gtet_check_arrays() proves, it checks the mesh's own
  * bookkeeping: the input map (each input point maps to the vertex with its coordinates, the
  * vertices numbered in order of first occurrence), the counts of points, duplicates and hull
  * facets the mesh reports, and its neighbor array against the rebuilt adjacency.
@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../kernel/output.h"
+#include "../gigatet.h"
 #include "check_internal.h"
 
 gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsigned flags,

@@ -2,7 +2,7 @@
 #ifndef GTET_FINALIZE_H
 #define GTET_FINALIZE_H
 
-#include "mesh.h"
+#include "kmesh.h"
 
 /* Hands the mesh's tv/tn arrays over as *tets / *nbrs (finite tets only, GTET_NO_TET on the
  * hull) and empties m; up to `threads` threads (same result for any count). */

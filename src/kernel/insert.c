@@ -22,7 +22,7 @@
  *    hash of the vertex pair for very large cavities (adjacency_hash).
  * No allocation in the loop except amortised growth of the per-thread buffers and the arrays.
  */
-#include "mesh.h"
+#include "kmesh.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -3,7 +3,7 @@
 #ifndef GTET_PARALLEL_H
 #define GTET_PARALLEL_H
 
-#include "mesh.h"
+#include "kmesh.h"
 
 typedef struct kpar {
     kmesh *m;

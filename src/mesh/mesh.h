@@ -1,12 +1,12 @@
-/* output.h -- the result object behind the opaque gtet_mesh of gigatet.h.
+/* mesh.h -- the result object behind the opaque gtet_mesh of gigatet.h.
  *
  * The kernel builds its working mesh (ghost tets, 4*t+f neighbour links, recycled slots) and,
  * at the end, compacts it in place into these plain arrays: finite tets only, positively
  * oriented, neighbours as tet ids with GTET_NO_TET on the hull.  Everything a user or the
- * checker reads goes through the accessors of output.c.
+ * checker reads goes through the accessors of mesh.c.
  */
-#ifndef GTET_OUTPUT_H
-#define GTET_OUTPUT_H
+#ifndef GTET_MESH_H
+#define GTET_MESH_H
 
 #include "../gigatet.h"
 

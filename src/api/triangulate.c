@@ -9,11 +9,11 @@
 #include <string.h>
 
 #include "../sort/sort.h"
-#include "finalize.h"
-#include "mesh.h"
-#include "parallel.h"
-#include "output.h"
-#include "validate.h"
+#include "../kernel/finalize.h"
+#include "../kernel/kmesh.h"
+#include "../kernel/parallel.h"
+#include "../mesh/mesh.h"
+#include "../validate/validate.h"
 
 #define BRIO_FIRST 2048
 #define BRIO_RATIO 6.0

@@ -1,7 +1,7 @@
 /* counters.c -- the public predicate wrappers of gigatet.h and their per-thread counters.
  * The record is _Thread_local (the one piece of static mutable state the library allows):
  * each thread sees and resets only its own counts, so the wrappers stay reentrant. */
-#include "pred.h"
+#include "../pred/pred.h"
 
 #include <string.h>
 

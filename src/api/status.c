@@ -1,5 +1,5 @@
 /* status.c -- status strings and option defaults of the public API. */
-#include "gigatet.h"
+#include "../gigatet.h"
 
 #include <string.h>
 

@@ -1,5 +1,5 @@
-/* output.c -- accessors and destructor of the result object (see output.h). */
-#include "output.h"
+/* mesh.c -- accessors and destructor of the result object (see mesh.h). */
+#include "mesh.h"
 
 #include <stdlib.h>
 #include <string.h>

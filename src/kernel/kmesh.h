@@ -15,8 +15,8 @@
  * Nothing here is global: a kmesh is shared by the threads of one call, a kctx belongs to one
  * thread (cavity buffers, counters, adjacency table).
  */
-#ifndef GTET_MESH_H
-#define GTET_MESH_H
+#ifndef GTET_KMESH_H
+#define GTET_KMESH_H
 
 #include <stddef.h>
 #include <stdint.h>
