@@ -16,43 +16,48 @@
 
 typedef struct check_args {
     const char *mesh, *points;
-    unsigned flags;
-    int quiet, json;
+    unsigned flags, quiet, json;
 } check_args;
 
-static int check_parse(int argc, char **argv, check_args *a)
+static const cli_opt check_opts[] = {
+    CLI_OPT_POINTS(check_args, "also check that every point of INPUT is a vertex (matched by\n"
+                               "coordinates) or a duplicate of one"),
+    {.name = "--delaunay", .kind = CLI_OPT_FLAG, .off = offsetof(check_args, flags),
+     .bits = GTET_CHECK_DELAUNAY,
+     .help = "judge the Delaunay property itself, ties allowed: any tool's Delaunay\n"
+             "mesh passes"},
+    {.name = "--any-orientation", .kind = CLI_OPT_FLAG, .off = offsetof(check_args, flags),
+     .bits = GTET_CHECK_ANY_ORIENTATION,
+     .help = "accept and count negatively oriented tets (flat ones fail)"},
+    {.name = "--full", .kind = CLI_OPT_FLAG, .off = offsetof(check_args, flags),
+     .bits = GTET_CHECK_FULL, .help = "add the O(n*m) empty-sphere test (small meshes only)"},
+    CLI_OPT_JSON(check_args, "print one JSON report on stdout (mode, counts, first violation)"),
+    CLI_OPT_QUIET(check_args),
+    {0}};
+
+static const cli_positional check_pos[] = {{"MESH", offsetof(check_args, mesh)}, {0}};
+
+static int cli_check(int argc, char **argv);
+
+const cli_command cli_cmd_check = {
+    .name = "check",
+    .summary = "Verify a mesh (a mesh format, below) with the exact checker.  By default\n"
+               "the mesh must be THE canonical Delaunay mesh (ties broken by the symbolic\n"
+               "perturbation, as gigatet and CGAL do).",
+    .opts = check_opts,
+    .pos = check_pos,
+    .missing = "check: no mesh file",
+    .extra = "check: more than one mesh file ('{first}', '{arg}')",
+    .run = cli_check,
+};
+
+/* A usage error unless path names a mesh format io_read_mesh reads. */
+int cli_need_mesh_format(const char *cmd, const char *path)
 {
-    const char *val;
-    int r;
-    memset(a, 0, sizeof *a);
-    for (int i = 0; i < argc; i++) {
-        const char *s = argv[i];
-        if ((r = cli_opt_value(argc, argv, &i, "--points", &val))) {
-            if (r < 0) return cli_usage("option --points needs a file name");
-            a->points = val;
-        } else if (!strcmp(s, "--full")) {
-            a->flags |= GTET_CHECK_FULL;
-        } else if (!strcmp(s, "--delaunay")) {
-            a->flags |= GTET_CHECK_DELAUNAY;
-        } else if (!strcmp(s, "--any-orientation")) {
-            a->flags |= GTET_CHECK_ANY_ORIENTATION;
-        } else if (!strcmp(s, "--json")) {
-            a->json = 1;
-        } else if (!strcmp(s, "-q") || !strcmp(s, "--quiet")) {
-            a->quiet = 1;
-        } else if (s[0] == '-' && s[1] != '\0') {
-            return cli_usage("check: unknown option '%s'", s);
-        } else if (!a->mesh) {
-            a->mesh = s;
-        } else {
-            return cli_usage("check: more than one mesh file ('%s', '%s')", a->mesh, s);
-        }
-    }
-    if (!a->mesh) return cli_usage("check: no mesh file");
-    io_format mf = io_format_of(a->mesh);
-    if (mf != IO_FMT_ELE && mf != IO_FMT_MSH && mf != IO_FMT_VTU)
-        return cli_usage("%s: check reads .ele (with its .node), .msh or .vtu meshes", a->mesh);
-    return CLI_OK;
+    char list[128];
+    if (io_format_can(io_format_of(path), IO_READ_MESH)) return CLI_OK;
+    return cli_usage("%s: %s reads %s meshes", path, cmd,
+                     io_format_list(IO_READ_MESH, 1, list, sizeof list));
 }
 
 /* The JSON report of `check --json` (one object on stdout, also for an unreadable file). */
@@ -78,10 +83,11 @@ static void check_json(const check_args *a, const char *status, const io_mesh *m
     }
 }
 
-int cli_check(int argc, char **argv)
+static int cli_check(int argc, char **argv)
 {
-    check_args a;
-    int rc = check_parse(argc, argv, &a);
+    check_args a = {0};
+    int rc = cli_parse(&cli_cmd_check, argc, argv, &a, NULL);
+    if (rc == CLI_OK) rc = cli_need_mesh_format("check", a.mesh);
     if (rc != CLI_OK) return rc;
     io_error ioe;
     io_status is;
@@ -90,10 +96,10 @@ int cli_check(int argc, char **argv)
     size_t n = 0;
     if ((is = io_read_mesh(a.mesh, &m, &ioe)) != IO_OK ||
         (a.points && (is = io_read_points(a.points, &xyz, &n, &ioe)) != IO_OK)) {
-        cli_error("%s", ioe.message);
+        rc = cli_io_failed(is, &ioe);
         if (a.json) check_json(&a, "unreadable", NULL, NULL, 1, ioe.message, 0);
         io_mesh_free(&m);
-        return cli_exit_of_io(is);
+        return rc;
     }
     const char *mode = (a.flags & GTET_CHECK_DELAUNAY) ? "delaunay" : "canonical";
     gtet_check_report rep;
@@ -125,59 +131,67 @@ int cli_check(int argc, char **argv)
     return rc;
 }
 
-int cli_generate(int argc, char **argv)
+typedef struct gen_args {
+    const char *kind, *count, *output;
+    uint64_t seed;
+    unsigned quiet;
+} gen_args;
+
+static const cli_opt gen_opts[] = {
+    {.name = "-o", .alias = "--output", .kind = CLI_OPT_STRING, .off = offsetof(gen_args, output),
+     .required = 1, .arg = "FILE", .missing = "option {opt} needs a file name",
+     .help = "the point file to write, in a point format (below)"},
+    {.name = "--seed", .kind = CLI_OPT_U64, .off = offsetof(gen_args, seed), .max = UINT64_MAX,
+     .arg = "S", .missing = "--seed needs a non-negative integer",
+     .help = "seed of the random kinds (default 1)"},
+    CLI_OPT_QUIET(gen_args),
+    {0}};
+
+static const cli_positional gen_pos[] = {
+    {"KIND", offsetof(gen_args, kind)}, {"N", offsetof(gen_args, count)}, {0}};
+
+static int cli_generate(int argc, char **argv);
+
+const cli_command cli_cmd_generate = {
+    .name = "generate",
+    .summary = "Write about N points of KIND (the generator kinds, below) to FILE.",
+    .opts = gen_opts,
+    .pos = gen_pos,
+    .missing = "generate: expected KIND N",
+    .extra = "generate: unexpected argument '{arg}'",
+    .run = cli_generate,
+};
+
+static int cli_generate(int argc, char **argv)
 {
-    const char *kind = NULL, *count = NULL, *output = NULL, *val;
-    uint64_t seed = 1, n = 0;
-    int quiet = 0, r;
-    for (int i = 0; i < argc; i++) {
-        const char *a = argv[i];
-        if ((r = cli_opt_value(argc, argv, &i, "-o", &val)) ||
-            (r = cli_opt_value(argc, argv, &i, "--output", &val))) {
-            if (r < 0) return cli_usage("option %s needs a file name", a);
-            output = val;
-        } else if ((r = cli_opt_value(argc, argv, &i, "--seed", &val))) {
-            if (r < 0 || !cli_parse_u64(val, UINT64_MAX, &seed))
-                return cli_usage("--seed needs a non-negative integer");
-        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-            quiet = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return cli_usage("generate: unknown option '%s'", a);
-        } else if (!kind) {
-            kind = a;
-        } else if (!count) {
-            count = a;
-        } else {
-            return cli_usage("generate: unexpected argument '%s'", a);
-        }
-    }
-    if (!kind || !count) return cli_usage("generate: expected KIND N");
-    if (!io_generator_help(kind)) {
-        fprintf(stderr, "gigatet: unknown generator kind '%s'; the kinds are:", kind);
+    gen_args a = {.seed = 1};
+    uint64_t n = 0;
+    char list[128];
+    int rc = cli_parse(&cli_cmd_generate, argc, argv, &a, NULL);
+    if (rc != CLI_OK) return rc;
+    if (!io_generator_help(a.kind)) {
+        fprintf(stderr, "gigatet: unknown generator kind '%s'; the kinds are:", a.kind);
         for (const char *const *k = io_generator_kinds(); *k; k++) fprintf(stderr, " %s", *k);
         fputc('\n', stderr);
         return CLI_USAGE;
     }
-    if (!cli_parse_u64(count, UINT32_MAX, &n) || n < 1)
-        return cli_usage("generate: N must be an integer in 1..%u, not '%s'", UINT32_MAX, count);
-    if (!output) return cli_usage("generate: -o FILE is required");
-    io_format of = io_format_of(output);
-    if (of < IO_FMT_XYZ || of > IO_FMT_BIN)
-        return cli_usage("%s: unknown point file extension (use .xyz, .node, .ply or .bin)", output);
+    if (!cli_parse_u64(a.count, UINT32_MAX, &n) || n < 1)
+        return cli_usage("generate: N must be an integer in 1..%u, not '%s'", UINT32_MAX, a.count);
+    if (!a.output) return cli_usage("generate: -o FILE is required");
+    if (!io_format_can(io_format_of(a.output), IO_WRITE_POINTS))
+        return cli_usage("%s: unknown point file extension (use %s)", a.output,
+                         io_format_list(IO_WRITE_POINTS, 0, list, sizeof list));
     io_error ioe;
     io_status is;
     double *xyz;
     size_t m;
-    if ((is = io_generate(kind, (size_t)n, seed, &xyz, &m, &ioe)) != IO_OK) {
-        cli_error("%s", ioe.message);
-        return cli_exit_of_io(is);
-    }
-    is = io_write_points(output, xyz, m, &ioe);
+    if ((is = io_generate(a.kind, (size_t)n, a.seed, &xyz, &m, &ioe)) != IO_OK)
+        return cli_io_failed(is, &ioe);
+    is = io_write_points(a.output, xyz, m, &ioe);
     free(xyz);
-    if (is != IO_OK) {
-        cli_error("%s", ioe.message);
-        return cli_exit_of_io(is);
-    }
-    if (!quiet) printf("generated=%zu kind=%s seed=%llu file=%s\n", m, kind, (unsigned long long)seed, output);
+    if (is != IO_OK) return cli_io_failed(is, &ioe);
+    if (!a.quiet)
+        printf("generated=%zu kind=%s seed=%llu file=%s\n", m, a.kind, (unsigned long long)a.seed,
+               a.output);
     return CLI_OK;
 }

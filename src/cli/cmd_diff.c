@@ -16,49 +16,37 @@
 typedef struct diff_args {
     const char *a, *b, *points;
     uint64_t groups;  /* groups listed; 0 = all */
-    int quiet, json;
+    unsigned quiet, json;
 } diff_args;
 
 static const char *const kind_name[] = {"identical", "ties", "a_not_delaunay", "b_not_delaunay",
                                         "neither_delaunay", "points"};
 
-static int diff_parse(int argc, char **argv, diff_args *d)
-{
-    const char *val;
-    int r;
-    memset(d, 0, sizeof *d);
-    d->groups = 10;
-    for (int i = 0; i < argc; i++) {
-        const char *s = argv[i];
-        if ((r = cli_opt_value(argc, argv, &i, "--points", &val))) {
-            if (r < 0) return cli_usage("option --points needs a file name");
-            d->points = val;
-        } else if ((r = cli_opt_value(argc, argv, &i, "--groups", &val))) {
-            if (r < 0 || !cli_parse_u64(val, UINT64_MAX, &d->groups))
-                return cli_usage("--groups needs a non-negative integer (0 = all)");
-        } else if (!strcmp(s, "--json")) {
-            d->json = 1;
-        } else if (!strcmp(s, "-q") || !strcmp(s, "--quiet")) {
-            d->quiet = 1;
-        } else if (s[0] == '-' && s[1] != '\0') {
-            return cli_usage("diff: unknown option '%s'", s);
-        } else if (!d->a) {
-            d->a = s;
-        } else if (!d->b) {
-            d->b = s;
-        } else {
-            return cli_usage("diff: expected two mesh files, got a third ('%s')", s);
-        }
-    }
-    if (!d->b) return cli_usage("diff: expected two mesh files A B");
-    const char *f[2] = {d->a, d->b};
-    for (int i = 0; i < 2; i++) {
-        io_format mf = io_format_of(f[i]);
-        if (mf != IO_FMT_ELE && mf != IO_FMT_MSH && mf != IO_FMT_VTU)
-            return cli_usage("%s: diff reads .ele (with its .node), .msh or .vtu meshes", f[i]);
-    }
-    return CLI_OK;
-}
+static const cli_opt diff_opts[] = {
+    CLI_OPT_POINTS(diff_args, "check both against the input points too"),
+    {.name = "--groups", .kind = CLI_OPT_U64, .off = offsetof(diff_args, groups),
+     .max = UINT64_MAX, .arg = "N", .missing = "--groups needs a non-negative integer (0 = all)",
+     .help = "list at most N groups (default 10; 0 = all)"},
+    CLI_OPT_JSON(diff_args, "print one JSON report on stdout"),
+    CLI_OPT_QUIET(diff_args),
+    {0}};
+
+static const cli_positional diff_pos[] = {
+    {"A", offsetof(diff_args, a)}, {"B", offsetof(diff_args, b)}, {0}};
+
+static int cli_diff(int argc, char **argv);
+
+const cli_command cli_cmd_diff = {
+    .name = "diff",
+    .summary = "Compare two meshes of one point set as sets of tets over coordinates:\n"
+               "exit 0 identical, 5 different, and say how (tie-breaking of co-spherical\n"
+               "groups, listed; or which side is not Delaunay; or different points).",
+    .opts = diff_opts,
+    .pos = diff_pos,
+    .missing = "diff: expected two mesh files A B",
+    .extra = "diff: expected two mesh files, got a third ('{arg}')",
+    .run = cli_diff,
+};
 
 static uint64_t listed(const diff_args *d, const gtet_diff_report *r)
 {
@@ -133,10 +121,12 @@ static void diff_json(const diff_args *d, const gtet_diff_report *r)
     fputs("}\n", stdout);
 }
 
-int cli_diff(int argc, char **argv)
+static int cli_diff(int argc, char **argv)
 {
-    diff_args d;
-    int rc = diff_parse(argc, argv, &d);
+    diff_args d = {.groups = 10};
+    int rc = cli_parse(&cli_cmd_diff, argc, argv, &d, NULL);
+    if (rc == CLI_OK) rc = cli_need_mesh_format("diff", d.a);
+    if (rc == CLI_OK) rc = cli_need_mesh_format("diff", d.b);
     if (rc != CLI_OK) return rc;
     io_error ioe;
     io_status is;
@@ -144,16 +134,12 @@ int cli_diff(int argc, char **argv)
     memset(&mb, 0, sizeof mb);
     double *xyz = NULL;
     size_t n = 0;
-    if ((is = io_read_mesh(d.a, &ma, &ioe)) != IO_OK) {
-        cli_error("%s", ioe.message);
-        return cli_exit_of_io(is);
-    }
+    if ((is = io_read_mesh(d.a, &ma, &ioe)) != IO_OK) return cli_io_failed(is, &ioe);
     if ((is = io_read_mesh(d.b, &mb, &ioe)) != IO_OK ||
         (d.points && (is = io_read_points(d.points, &xyz, &n, &ioe)) != IO_OK)) {
-        cli_error("%s", ioe.message);
         io_mesh_free(&ma);
         io_mesh_free(&mb);
-        return cli_exit_of_io(is);
+        return cli_io_failed(is, &ioe);
     }
     gtet_diff_report r;
     gtet_status gs = gtet_diff(ma.vertices, ma.nv, ma.tets, ma.nt, mb.vertices, mb.nv, mb.tets,

@@ -13,6 +13,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "io/io_internal.h"
+#include "json.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,77 +37,59 @@ static void progress_bar(void *user, double fraction)
     fflush(stderr);
 }
 
-static void json_string(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') fprintf(f, "\\%c", c);
-        else if (c < 0x20) fprintf(f, "\\u%04x", c);
-        else fputc(c, f);
-    }
-    fputc('"', f);
-}
+typedef struct tri_args {
+    const char *input, *output, *degen;
+    uint64_t threads, degen_limit;
+    unsigned check, stats, quiet;
+} tri_args;
 
-/* The predicate counters as the JSON object --stats and --degeneracies both print. */
-static void json_pred_counters(FILE *f, const gtet_pred_counters *p)
-{
-    fprintf(f, "{\"orient_calls\":%llu,\"orient_exact\":%llu,\"orient_int\":%llu,"
-            "\"orient_gmp\":%llu,\"orient_zero\":%llu,\"insphere_calls\":%llu,"
-            "\"insphere_exact\":%llu,\"insphere_int\":%llu,\"insphere_gmp\":%llu,"
-            "\"insphere_zero\":%llu,\"sos_calls\":%llu,"
-            "\"sos_depth\":[%llu,%llu,%llu,%llu]}",
-            (unsigned long long)p->orient_calls, (unsigned long long)p->orient_exact,
-            (unsigned long long)p->orient_int, (unsigned long long)p->orient_gmp,
-            (unsigned long long)p->orient_zero, (unsigned long long)p->insphere_calls,
-            (unsigned long long)p->insphere_exact, (unsigned long long)p->insphere_int,
-            (unsigned long long)p->insphere_gmp, (unsigned long long)p->insphere_zero,
-            (unsigned long long)p->sos_calls, (unsigned long long)p->sos_depth[0],
-            (unsigned long long)p->sos_depth[1], (unsigned long long)p->sos_depth[2],
-            (unsigned long long)p->sos_depth[3]);
-}
+enum { GIVEN_LIMIT = 1u };
 
-static void print_stats(const char *input, const gtet_mesh *mesh, double t_read, double t_kernel,
-                        double t_check, double t_write, double t_wall)
-{
-    gtet_stats st;
-    gtet_mesh_stats(mesh, &st);
-    size_t nt = gtet_mesh_num_tets(mesh);
-    printf("{\"input\":");
-    json_string(stdout, input);
-    printf(",\"points\":%zu,\"vertices\":%zu,\"duplicates\":%zu,\"tets\":%zu,\"hull_facets\":%zu",
-           gtet_mesh_num_points(mesh), gtet_mesh_num_vertices(mesh),
-           gtet_mesh_num_duplicates(mesh), nt, gtet_mesh_num_hull_facets(mesh));
-    printf(",\"threads\":%d,\"tets_per_second\":%.6g", st.threads,
-           t_kernel > 0 ? (double)nt / t_kernel : 0.0);
-    printf(",\"seconds\":{\"read\":%.6f,\"validate\":%.6f,\"sort\":%.6f,\"insert\":%.6f,"
-           "\"finalize\":%.6f,\"kernel\":%.6f,\"kernel_reported\":%.6f,\"check\":%.6f,"
-           "\"write\":%.6f,\"wall\":%.6f}",
-           t_read, st.seconds_validate, st.seconds_sort, st.seconds_insert, st.seconds_finalize,
-           t_kernel, st.seconds_total, t_check, t_write, t_wall);
-    printf(",\"bytes_per_tet\":%zu,\"kernel_peak_bytes\":%zu,\"max_rss_bytes\":%ld",
-           st.bytes_per_tet, st.peak_bytes, cli_max_rss_bytes());
-    printf(",\"tets_created\":%llu,\"walk_steps\":%llu", (unsigned long long)st.tets_created,
-           (unsigned long long)st.walk_steps);
-    printf(",\"predicates\":");
-    json_pred_counters(stdout, &st.pred);
-    printf(",\"num_rounds\":%d,\"rounds\":[", st.num_rounds);
-    for (int r = 0; r < st.num_rounds && st.rounds; r++) {
-        const gtet_round_stats *rs = &st.rounds[r];
-        printf("%s{\"points\":%llu,\"tried\":%llu,\"inserted\":%llu,\"deferred\":%llu,"
-               "\"threads\":%d,\"passes\":%d,\"alpha\":%.4f,\"alpha_first_pass\":%.4f,"
-               "\"ownership\":%d}",
-               r ? "," : "", (unsigned long long)rs->points, (unsigned long long)rs->tried,
-               (unsigned long long)rs->inserted, (unsigned long long)rs->deferred, rs->threads,
-               rs->passes, rs->tried ? (double)rs->inserted / (double)rs->tried : 1.0,
-               rs->alpha_first, rs->ownership);
-    }
-    printf("]}\n");
-}
+static const cli_opt tri_opts[] = {
+    {.name = "-o", .alias = "--output", .kind = CLI_OPT_STRING, .off = offsetof(tri_args, output),
+     .arg = "OUTPUT", .missing = "option {opt} needs a file name",
+     .help = "write the mesh in a mesh format (below); without -o nothing is written"},
+    {.name = "-t", .alias = "--threads", .kind = CLI_OPT_U64, .off = offsetof(tri_args, threads),
+     .max = 1024, .arg = "THREADS", .missing = "option {opt} needs a thread count",
+     .invalid = "invalid thread count '{value}' (expected 0..1024, 0 = all cores)",
+     .help = "worker threads, 0 = all cores (default 0; at most 1024)"},
+    {.name = "--check", .kind = CLI_OPT_FLAG, .off = offsetof(tri_args, check), .bits = 1,
+     .help = "verify the result with the exact checker before writing it"},
+    {.name = "--stats", .kind = CLI_OPT_FLAG, .off = offsetof(tri_args, stats), .bits = 1,
+     .help = "print a JSON object of statistics after the summary line"},
+    {.name = "--degeneracies", .kind = CLI_OPT_STRING, .off = offsetof(tri_args, degen),
+     .arg = "FILE.json", .missing = "option {opt} needs a file name",
+     .help = "write every decision of the symbolic perturbation (five co-spherical\n"
+             "points; a point on a hull facet's circle: mesh vertex ids, coordinates,\n"
+             "the term that decided, the sign) and the predicate counters as JSON"},
+    {.name = "--degeneracies-limit", .kind = CLI_OPT_U64, .off = offsetof(tri_args, degen_limit),
+     .max = SIZE_MAX, .mark = GIVEN_LIMIT, .arg = "N", .missing = "option {opt} needs a count",
+     .invalid = "invalid degeneracy limit '{value}' (expected a count >= 0)",
+     .help = "with --degeneracies: store at most N decisions (default 100000; the\n"
+             "counts stay exact)"},
+    CLI_OPT_QUIET(tri_args),
+    {0}};
 
-/* The --degeneracies file: the run's counters and the recorded decisions of the symbolic
- * perturbation (gtet_mesh_degeneracies), vertex ids of the mesh with their coordinates in
- * %.17g (they read back exactly). */
+static const cli_positional tri_pos[] = {{"INPUT", offsetof(tri_args, input)}, {0}};
+
+static int cli_triangulate(int argc, char **argv);
+
+const cli_command cli_cmd_triangulate = {
+    .name = "triangulate",
+    .summary = "Delaunay tetrahedrization of the points of INPUT.  Prints one summary line\n"
+               "(points, duplicates, tets, seconds, tets/s) on stdout.",
+    .opts = tri_opts,
+    .pos = tri_pos,
+    .missing = "triangulate: no input file",
+    .extra = "triangulate: more than one input file ('{first}', '{arg}')",
+    .run = cli_triangulate,
+};
+
+typedef struct tri_times { double start, read, kernel, check, write; } tri_times;
+
+/* The predicate counters, then the recorded decisions of the symbolic perturbation
+ * (gtet_mesh_degeneracies): mesh vertex ids with their coordinates in %.17g (they read back
+ * exactly). */
 static void write_degeneracies(FILE *f, const char *input, const gtet_mesh *mesh, size_t limit)
 {
     gtet_stats st;
@@ -116,10 +99,10 @@ static void write_degeneracies(FILE *f, const char *input, const gtet_mesh *mesh
     const gtet_degeneracy *d = gtet_mesh_degeneracies(mesh, &stored, &total);
     const double *v = gtet_mesh_vertices(mesh);
     fputs("{\"input\":", f);
-    json_string(f, input);
+    cli_json_str(f, input);
     fprintf(f, ",\"points\":%zu,\"vertices\":%zu,\"threads\":%d,\"predicates\":",
             gtet_mesh_num_points(mesh), gtet_mesh_num_vertices(mesh), st.threads);
-    json_pred_counters(f, &st.pred);
+    cli_json_pred_counters(f, &st.pred);
     fprintf(f, ",\"limit\":%zu,\"total\":%llu,\"stored\":%zu,\"omitted\":%llu,"
             "\"truncated\":%s,\"decisions\":[",
             limit, (unsigned long long)total, stored, (unsigned long long)(total - stored),
@@ -131,12 +114,56 @@ static void write_degeneracies(FILE *f, const char *input, const gtet_mesh *mesh
         for (int k = 0; k < r->npoints; k++) fprintf(f, "%s%u", k ? "," : "", r->vertex[k]);
         fputs("],\"coords\":[", f);
         for (int k = 0; k < r->npoints; k++) {
-            const double *p = v + 3 * (size_t)r->vertex[k];
-            fprintf(f, "%s[%.17g,%.17g,%.17g]", k ? "," : "", p[0], p[1], p[2]);
+            if (k) fputc(',', f);
+            cli_json_point(f, v + 3 * (size_t)r->vertex[k]);
         }
         fprintf(f, "],\"term\":%d,\"sign\":%d}", r->term, r->sign);
     }
     fputs(stored ? "\n]}\n" : "]}\n", f);
+}
+
+static void print_rounds(const gtet_stats *st)
+{
+    printf(",\"num_rounds\":%d,\"rounds\":[", st->num_rounds);
+    for (int r = 0; r < st->num_rounds && st->rounds; r++) {
+        const gtet_round_stats *rs = &st->rounds[r];
+        printf("%s{\"points\":%llu,\"tried\":%llu,\"inserted\":%llu,\"deferred\":%llu,"
+               "\"threads\":%d,\"passes\":%d,\"alpha\":%.4f,\"alpha_first_pass\":%.4f,"
+               "\"ownership\":%d}",
+               r ? "," : "", (unsigned long long)rs->points, (unsigned long long)rs->tried,
+               (unsigned long long)rs->inserted, (unsigned long long)rs->deferred, rs->threads,
+               rs->passes, rs->tried ? (double)rs->inserted / (double)rs->tried : 1.0,
+               rs->alpha_first, rs->ownership);
+    }
+    printf("]");
+}
+
+/* The --stats object, one line. */
+static void print_stats(const char *input, const gtet_mesh *mesh, const tri_times *t)
+{
+    gtet_stats st;
+    gtet_mesh_stats(mesh, &st);
+    size_t nt = gtet_mesh_num_tets(mesh);
+    printf("{\"input\":");
+    cli_json_str(stdout, input);
+    printf(",\"points\":%zu,\"vertices\":%zu,\"duplicates\":%zu,\"tets\":%zu,\"hull_facets\":%zu",
+           gtet_mesh_num_points(mesh), gtet_mesh_num_vertices(mesh),
+           gtet_mesh_num_duplicates(mesh), nt, gtet_mesh_num_hull_facets(mesh));
+    printf(",\"threads\":%d,\"tets_per_second\":%.6g", st.threads,
+           t->kernel > 0 ? (double)nt / t->kernel : 0.0);
+    printf(",\"seconds\":{\"read\":%.6f,\"validate\":%.6f,\"sort\":%.6f,\"insert\":%.6f,"
+           "\"finalize\":%.6f,\"kernel\":%.6f,\"kernel_reported\":%.6f,\"check\":%.6f,"
+           "\"write\":%.6f,\"wall\":%.6f}",
+           t->read, st.seconds_validate, st.seconds_sort, st.seconds_insert, st.seconds_finalize,
+           t->kernel, st.seconds_total, t->check, t->write, cli_now() - t->start);
+    printf(",\"bytes_per_tet\":%zu,\"kernel_peak_bytes\":%zu,\"max_rss_bytes\":%ld",
+           st.bytes_per_tet, st.peak_bytes, cli_max_rss_bytes());
+    printf(",\"tets_created\":%llu,\"walk_steps\":%llu", (unsigned long long)st.tets_created,
+           (unsigned long long)st.walk_steps);
+    printf(",\"predicates\":");
+    cli_json_pred_counters(stdout, &st.pred);
+    print_rounds(&st);
+    printf("}\n");
 }
 
 /* 1 when writing `out` (or the .node beside a .ele) would replace the input file. */
@@ -152,171 +179,134 @@ static int overwrites_input(const char *input, const char *out)
     return same;
 }
 
-int cli_triangulate(int argc, char **argv)
+/* Usage errors of the output paths, before any file is touched. */
+static int tri_validate(const tri_args *a, unsigned given)
 {
-    const char *input = NULL, *output = NULL, *degen = NULL, *val;
-    uint64_t threads = 0, degen_limit = 100000;
-    int check = 0, stats = 0, quiet = 0, have_limit = 0, r;
-    for (int i = 0; i < argc; i++) {
-        const char *a = argv[i];
-        if ((r = cli_opt_value(argc, argv, &i, "-o", &val)) ||
-            (r = cli_opt_value(argc, argv, &i, "--output", &val))) {
-            if (r < 0) return cli_usage("option %s needs a file name", a);
-            output = val;
-        } else if ((r = cli_opt_value(argc, argv, &i, "-t", &val)) ||
-                   (r = cli_opt_value(argc, argv, &i, "--threads", &val))) {
-            if (r < 0) return cli_usage("option %s needs a thread count", a);
-            if (!cli_parse_u64(val, 1024, &threads))
-                return cli_usage("invalid thread count '%s' (expected 0..1024, 0 = all cores)", val);
-        } else if ((r = cli_opt_value(argc, argv, &i, "--degeneracies", &val))) {
-            if (r < 0) return cli_usage("option %s needs a file name", a);
-            degen = val;
-        } else if ((r = cli_opt_value(argc, argv, &i, "--degeneracies-limit", &val))) {
-            if (r < 0) return cli_usage("option %s needs a count", a);
-            if (!cli_parse_u64(val, (uint64_t)SIZE_MAX, &degen_limit))
-                return cli_usage("invalid degeneracy limit '%s' (expected a count >= 0)", val);
-            have_limit = 1;
-        } else if (!strcmp(a, "--check")) {
-            check = 1;
-        } else if (!strcmp(a, "--stats")) {
-            stats = 1;
-        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
-            quiet = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return cli_usage("triangulate: unknown option '%s'", a);
-        } else if (!input) {
-            input = a;
-        } else {
-            return cli_usage("triangulate: more than one input file ('%s', '%s')", input, a);
-        }
-    }
-    if (!input) return cli_usage("triangulate: no input file");
-    io_format of = io_format_of(output);
-    if (output && of != IO_FMT_ELE && of != IO_FMT_MSH && of != IO_FMT_VTU)
-        return cli_usage("%s: unknown output extension (use .ele, .msh or .vtu)", output);
-    if (output && overwrites_input(input, output))
-        return cli_usage("%s: writing the mesh would overwrite the input file %s", output, input);
-    if (have_limit && !degen) return cli_usage("--degeneracies-limit needs --degeneracies FILE");
-    if (degen && overwrites_input(input, degen))
-        return cli_usage("%s: writing the degeneracies would overwrite the input file %s", degen,
-                         input);
-    if (degen && output) {
-        char *node = io_ele_node_path(output);
-        int same = !strcmp(degen, output) || (node && !strcmp(degen, node));
+    char list[128];
+    if (a->output && !io_format_can(io_format_of(a->output), IO_WRITE_MESH))
+        return cli_usage("%s: unknown output extension (use %s)", a->output,
+                         io_format_list(IO_WRITE_MESH, 0, list, sizeof list));
+    if (a->output && overwrites_input(a->input, a->output))
+        return cli_usage("%s: writing the mesh would overwrite the input file %s", a->output,
+                         a->input);
+    if ((given & GIVEN_LIMIT) && !a->degen)
+        return cli_usage("--degeneracies-limit needs --degeneracies FILE");
+    if (a->degen && overwrites_input(a->input, a->degen))
+        return cli_usage("%s: writing the degeneracies would overwrite the input file %s",
+                         a->degen, a->input);
+    if (a->degen && a->output) {
+        char *node = io_ele_node_path(a->output);
+        int same = !strcmp(a->degen, a->output) || (node && !strcmp(a->degen, node));
         free(node);
-        if (same) return cli_usage("%s: both the mesh and the degeneracies would go there", degen);
+        if (same) return cli_usage("%s: both the mesh and the degeneracies would go there", a->degen);
     }
+    return CLI_OK;
+}
 
+/* Every output can be created: fail before the work, not after it. */
+static int tri_writable(const tri_args *a)
+{
+    const char *paths[3] = {a->output, NULL, a->degen};
+    char *node = a->output ? io_ele_node_path(a->output) : NULL;
+    paths[1] = node;
     io_error ioe;
-    io_status is;
-    if (output) {
-        /* fail before the work, not after it */
-        if ((is = io_check_writable(output, &ioe)) != IO_OK) {
-            cli_error("%s", ioe.message);
-            return cli_exit_of_io(is);
-        }
-        char *node = io_ele_node_path(output);
-        if (node && (is = io_check_writable(node, &ioe)) != IO_OK) {
-            cli_error("%s", ioe.message);
-            free(node);
-            return cli_exit_of_io(is);
-        }
-        free(node);
-    }
-    if (degen && (is = io_check_writable(degen, &ioe)) != IO_OK) {
-        cli_error("%s", ioe.message);
-        return cli_exit_of_io(is);
-    }
+    io_status is = IO_OK;
+    for (int i = 0; i < 3 && is == IO_OK; i++)
+        if (paths[i]) is = io_check_writable(paths[i], &ioe);
+    free(node);
+    return is == IO_OK ? CLI_OK : cli_io_failed(is, &ioe);
+}
 
-    double t0 = cli_now();
-    double *xyz;
-    size_t n;
-    if ((is = io_read_points(input, &xyz, &n, &ioe)) != IO_OK) {
-        cli_error("%s", ioe.message);
-        return cli_exit_of_io(is);
-    }
-    double t1 = cli_now();
-
+/* gtet_triangulate with the options of a (and the progress bar on a terminal). */
+static int tri_kernel(const tri_args *a, const double *xyz, size_t n, gtet_mesh **mesh)
+{
     gtet_options opts;
     gtet_error gerr;
     progress_state ps = {-1};
     memset(&gerr, 0, sizeof gerr);
     gtet_options_init(&opts);
-    opts.threads = (int)threads;
+    opts.threads = (int)a->threads;
     opts.error = &gerr;
-    opts.degeneracies = degen != NULL;
-    opts.degeneracy_limit = (size_t)degen_limit;
-    int bar = !quiet && isatty(STDERR_FILENO);
+    opts.degeneracies = a->degen != NULL;
+    opts.degeneracy_limit = (size_t)a->degen_limit;
+    int bar = !a->quiet && isatty(STDERR_FILENO);
     if (bar) {
         opts.progress = progress_bar;
         opts.progress_user = &ps;
     }
-    gtet_mesh *mesh = NULL;
-    gtet_status gs = gtet_triangulate(xyz, n, &opts, &mesh);
-    double t2 = cli_now();
+    gtet_status gs = gtet_triangulate(xyz, n, &opts, mesh);
     if (bar && ps.last >= 0) fputs("\r\033[K", stderr);
-    if (gs != GTET_OK) {
-        const char *msg = gerr.message[0] ? gerr.message : gtet_status_str(gs);
-        if (gs == GTET_ERR_NONFINITE && gerr.index != SIZE_MAX)
-            cli_error("%s: point %zu: %s", input, gerr.index, msg);
-        else
-            cli_error("%s: %s", input, msg);
-        free(xyz);
-        return cli_exit_of_gtet(gs);
-    }
-    int rc = CLI_OK;
-    double t_check = 0, t_write = 0;
+    if (gs == GTET_OK) return CLI_OK;
+    const char *msg = gerr.message[0] ? gerr.message : gtet_status_str(gs);
+    if (gs == GTET_ERR_NONFINITE && gerr.index != SIZE_MAX)
+        cli_error("%s: point %zu: %s", a->input, gerr.index, msg);
+    else
+        cli_error("%s: %s", a->input, msg);
+    return cli_exit_of_gtet(gs);
+}
+
+/* --check, then the outputs: the degeneracy record complete in its temporary, the mesh
+ * written atomically, and only then the record renamed into place. */
+static int tri_outputs(const tri_args *a, const double *xyz, size_t n, const gtet_mesh *mesh,
+                       tri_times *t)
+{
+    io_error ioe;
+    io_status is = IO_OK;
     io_out dout = {NULL, NULL, NULL};
-    if (check) {
+    if (a->check) {
         gtet_check_report rep;
         memset(&rep, 0, sizeof rep);
         double c0 = cli_now();
-        gs = gtet_check(mesh, xyz, n, 0, &rep);
-        t_check = cli_now() - c0;
+        gtet_status gs = gtet_check(mesh, xyz, n, 0, &rep);
+        t->check = cli_now() - c0;
         if (gs != GTET_OK) {
-            cli_error("%s: check failed: %s", input, rep.message[0] ? rep.message : gtet_status_str(gs));
-            rc = gs == GTET_ERR_CHECK_FAILED ? CLI_CHECK_FAILED : cli_exit_of_gtet(gs);
-            goto out;
+            cli_error("%s: check failed: %s", a->input, rep.message[0] ? rep.message : gtet_status_str(gs));
+            return gs == GTET_ERR_CHECK_FAILED ? CLI_CHECK_FAILED : cli_exit_of_gtet(gs);
         }
     }
-    if (degen) {  /* complete in its temporary before the mesh is written */
-        if ((is = io_out_open(&dout, degen, &ioe)) == IO_OK) {
-            write_degeneracies(dout.f, input, mesh, (size_t)degen_limit);
-            is = io_out_close(&dout, &ioe);
-        }
-        if (is != IO_OK) {
-            cli_error("%s", ioe.message);
-            rc = cli_exit_of_io(is);
-            goto out;
-        }
+    if (a->degen && (is = io_out_open(&dout, a->degen, &ioe)) == IO_OK) {
+        write_degeneracies(dout.f, a->input, mesh, (size_t)a->degen_limit);
+        is = io_out_close(&dout, &ioe);
     }
-    if (output) {
+    if (is == IO_OK && a->output) {
         double w0 = cli_now();
-        is = io_write_mesh(output, gtet_mesh_vertices(mesh), gtet_mesh_num_vertices(mesh),
+        is = io_write_mesh(a->output, gtet_mesh_vertices(mesh), gtet_mesh_num_vertices(mesh),
                            gtet_mesh_tets(mesh), gtet_mesh_num_tets(mesh), &ioe);
-        t_write = cli_now() - w0;
-        if (is != IO_OK) {
-            cli_error("%s", ioe.message);
-            rc = cli_exit_of_io(is);
-            goto out;
-        }
+        t->write = cli_now() - w0;
     }
-    if (degen && (is = io_out_commit(&dout, &ioe)) != IO_OK) {
-        cli_error("%s", ioe.message);
-        rc = cli_exit_of_io(is);
-        goto out;
-    }
-    if (!quiet) {
-        double k = t2 - t1;
+    if (is == IO_OK && a->degen) is = io_out_commit(&dout, &ioe);
+    if (dout.tmp) io_out_abort(&dout);
+    return is == IO_OK ? CLI_OK : cli_io_failed(is, &ioe);
+}
+
+static int cli_triangulate(int argc, char **argv)
+{
+    tri_args a = {.degen_limit = 100000};
+    unsigned given;
+    int rc;
+    if ((rc = cli_parse(&cli_cmd_triangulate, argc, argv, &a, &given)) != CLI_OK ||
+        (rc = tri_validate(&a, given)) != CLI_OK || (rc = tri_writable(&a)) != CLI_OK)
+        return rc;
+    tri_times t = {.start = cli_now()};
+    double *xyz;
+    size_t n;
+    io_error ioe;
+    io_status is = io_read_points(a.input, &xyz, &n, &ioe);
+    if (is != IO_OK) return cli_io_failed(is, &ioe);
+    double t1 = cli_now();
+    t.read = t1 - t.start;
+    gtet_mesh *mesh = NULL;
+    rc = tri_kernel(&a, xyz, n, &mesh);
+    t.kernel = cli_now() - t1;
+    if (rc == CLI_OK) rc = tri_outputs(&a, xyz, n, mesh, &t);
+    if (rc == CLI_OK && !a.quiet) {
         size_t nt = gtet_mesh_num_tets(mesh);
         printf("points=%zu duplicates=%zu tets=%zu seconds=%.3f tets/s=%.0f%s\n", n,
-               gtet_mesh_num_duplicates(mesh), nt, k, k > 0 ? (double)nt / k : 0.0,
-               check ? " check=ok" : "");
-        if (stats) print_stats(input, mesh, t1 - t0, k, t_check, t_write, cli_now() - t0);
+               gtet_mesh_num_duplicates(mesh), nt, t.kernel,
+               t.kernel > 0 ? (double)nt / t.kernel : 0.0, a.check ? " check=ok" : "");
+        if (a.stats) print_stats(a.input, mesh, &t);
         fflush(stdout);
     }
-out:
-    if (dout.tmp) io_out_abort(&dout);
     gtet_mesh_free(&mesh);
     free(xyz);
     return rc;

@@ -1,6 +1,42 @@
 /* json.c -- JSON writers of the CLI's reports (see json.h). */
 #include "json.h"
 
+#include <stddef.h>
+#include <stdint.h>
+
+/* The one list of the predicate counters' fields: --stats and --degeneracies print it. */
+#define PRED_FIELD(f) \
+    {#f, offsetof(gtet_pred_counters, f), sizeof(((gtet_pred_counters *)0)->f) / sizeof(uint64_t)}
+static const struct pred_field {
+    const char *name;
+    size_t off, count;   /* count > 1: a JSON array */
+} pred_fields[] = {
+    PRED_FIELD(orient_calls),   PRED_FIELD(orient_exact),   PRED_FIELD(orient_int),
+    PRED_FIELD(orient_gmp),     PRED_FIELD(orient_zero),    PRED_FIELD(insphere_calls),
+    PRED_FIELD(insphere_exact), PRED_FIELD(insphere_int),   PRED_FIELD(insphere_gmp),
+    PRED_FIELD(insphere_zero),  PRED_FIELD(sos_calls),      PRED_FIELD(sos_depth),
+};
+#undef PRED_FIELD
+/* Every uint64_t of the struct is in the list: a field added to gigatet.h fails here (the
+ * array sos_depth is one entry for its 4 values). */
+_Static_assert(sizeof(gtet_pred_counters) ==
+                   (sizeof pred_fields / sizeof pred_fields[0] + 3) * sizeof(uint64_t),
+               "pred_fields must list every field of gtet_pred_counters");
+
+void cli_json_pred_counters(FILE *f, const gtet_pred_counters *p)
+{
+    size_t n = sizeof pred_fields / sizeof pred_fields[0];
+    for (size_t i = 0; i < n; i++) {
+        const struct pred_field *d = &pred_fields[i];
+        const uint64_t *v = (const uint64_t *)(const void *)((const char *)p + d->off);
+        fprintf(f, "%s\"%s\":%s", i ? "," : "{", d->name, d->count > 1 ? "[" : "");
+        for (size_t k = 0; k < d->count; k++)
+            fprintf(f, "%s%llu", k ? "," : "", (unsigned long long)v[k]);
+        if (d->count > 1) fputc(']', f);
+    }
+    fputc('}', f);
+}
+
 void cli_json_str(FILE *f, const char *s)
 {
     if (!s) {

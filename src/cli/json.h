@@ -17,6 +17,9 @@ void cli_json_str(FILE *f, const char *s);
 void cli_json_point(FILE *f, const double p[3]);
 /* The violation object of a check report ("violation": {...} or null, without the key). */
 void cli_json_violation(FILE *f, const gtet_check_violation *v, int failed);
+/* The predicate counters as one object: every field of gtet_pred_counters under its own name
+ * (an array for sos_depth), in the struct's order. */
+void cli_json_pred_counters(FILE *f, const gtet_pred_counters *p);
 /* The counters and verdict of a check report, as members ("key": value, ...) without braces. */
 void cli_json_check_members(FILE *f, const gtet_check_report *r, int failed);
 

@@ -1,14 +1,9 @@
 /* main.c -- the gigatet command-line tool: dispatch, help, version, shared helpers.
  *
- *   gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check] [--stats]
- *                       [--degeneracies FILE.json [--degeneracies-limit N]] [-q]
- *   gigatet check MESH [--points INPUT] [--delaunay] [--any-orientation] [--full] [--json] [-q]
- *   gigatet diff A B [--points INPUT] [--groups N] [--json] [-q]
- *   gigatet generate KIND N [--seed S] -o FILE [-q]
- *   gigatet --help | --version
- *
- * Only this directory prints or exits; the library and src/io report through status codes.
- * The exit codes are listed in cli.h and in --help.
+ * The commands are triangulate, check, diff and generate (cmd_*.c), each with its option
+ * table; `gigatet --help` prints their synopses.  Only this directory prints or exits; the library and src/io report through status codes.
+ * The exit codes are listed in cli.h and in --help.  The help is drawn from the commands'
+ * option tables (opts.c) and the table of file formats (io_formats in src/io).
  */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
@@ -19,66 +14,30 @@
 #include <sys/resource.h>
 #include <time.h>
 
-static const char help_text[] =
-    "gigatet %d.%d.%d -- robust, fast 3D Delaunay tetrahedrization\n"
-    "\n"
-    "Usage:\n"
-    "  gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check] [--stats]\n"
-    "                      [--degeneracies FILE.json [--degeneracies-limit N]] [-q]\n"
-    "  gigatet check MESH [--points INPUT] [--delaunay] [--any-orientation] [--full]\n"
-    "                [--json] [-q]\n"
-    "  gigatet diff A B [--points INPUT] [--groups N] [--json] [-q]\n"
-    "  gigatet generate KIND N [--seed S] -o FILE [-q]\n"
-    "  gigatet --help | --version\n"
-    "\n"
-    "triangulate  Delaunay tetrahedrization of the points of INPUT.  Prints one summary line\n"
-    "             (points, duplicates, tets, seconds, tets/s) on stdout.\n"
-    "  -o OUTPUT    write the mesh: .ele (TetGen, writes NAME.node and NAME.ele, 1-based),\n"
-    "               .msh (Gmsh 4.1 ASCII), .vtu (VTK XML); without -o nothing is written\n"
-    "  -t THREADS   worker threads, 0 = all cores (default 0; at most 1024)\n"
-    "  --check      verify the result with the exact checker before writing it\n"
-    "  --stats      print a JSON object of statistics after the summary line\n"
-    "  --degeneracies FILE.json\n"
-    "               write every decision of the symbolic perturbation (five co-spherical\n"
-    "               points; a point on a hull facet's circle: mesh vertex ids, coordinates,\n"
-    "               the term that decided, the sign) and the predicate counters as JSON\n"
-    "  --degeneracies-limit N\n"
-    "               store at most N decisions (default 100000; the counts stay exact)\n"
-    "  -q           print nothing but errors\n"
-    "check        Verify a mesh (.ele with its .node, .msh 2.2/4.1, .vtu) with the exact\n"
-    "             checker.  By default the mesh must be THE canonical Delaunay mesh (ties\n"
-    "             broken by the symbolic perturbation, as gigatet and CGAL do).\n"
-    "  --points INPUT  also check that every point of INPUT is a vertex (matched by\n"
-    "                  coordinates) or a duplicate of one\n"
-    "  --delaunay      judge the Delaunay property itself, ties allowed: any tool's\n"
-    "                  Delaunay mesh passes\n"
-    "  --any-orientation  accept and count negatively oriented tets (flat ones fail)\n"
-    "  --full          add the O(n*m) empty-sphere test (small meshes only)\n"
-    "  --json          print one JSON report on stdout (mode, counts, first violation)\n"
-    "diff         Compare two meshes of one point set as sets of tets over coordinates:\n"
-    "             exit 0 identical, 5 different, and say how (tie-breaking of co-spherical\n"
-    "             groups, listed; or which side is not Delaunay; or different points).\n"
-    "  --points INPUT  check both against the input points too\n"
-    "  --groups N      list at most N groups (default 10; 0 = all)\n"
-    "  --json          print one JSON report on stdout\n"
-    "generate     Write about N points of KIND to FILE (.xyz, .node, .ply or .bin).\n"
-    "  --seed S     seed of the random kinds (default 1)\n"
-    "\n"
-    "Input formats (by extension): .xyz (x y z per line, # comments), .node (TetGen),\n"
-    ".ply (ascii or binary_little_endian), .bin (little-endian uint64 count, then count*3\n"
-    "little-endian doubles).  Exact duplicate points are counted and mapped to their first\n"
-    "occurrence, never silently dropped.\n"
-    "\n"
-    "Exit codes: 0 ok, 1 usage, 2 bad input file or data (or unwritable output),\n"
-    "3 degenerate input (all points coplanar, collinear or fewer than 4 distinct),\n"
-    "4 out of memory, 5 check failed (diff: the meshes differ).  A failed run leaves no\n"
-    "partial output file.\n"
-    "\n"
-    "Generator kinds:\n";
+static const cli_command *const commands[] = {&cli_cmd_triangulate, &cli_cmd_check,
+                                              &cli_cmd_diff, &cli_cmd_generate};
+enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 
 static void print_help(FILE *f)
 {
-    fprintf(f, help_text, GTET_VERSION_MAJOR, GTET_VERSION_MINOR, GTET_VERSION_PATCH);
+    fprintf(f, "gigatet %d.%d.%d -- robust, fast 3D Delaunay tetrahedrization\n\nUsage:\n",
+            GTET_VERSION_MAJOR, GTET_VERSION_MINOR, GTET_VERSION_PATCH);
+    for (int c = 0; c < NCOMMANDS; c++) cli_print_synopsis(f, commands[c]);
+    fputs("  gigatet --help | --version\n\n", f);
+    for (int c = 0; c < NCOMMANDS; c++) cli_print_command_help(f, commands[c]);
+    fputs("\nFile formats, by extension (points: triangulate's INPUT, --points, generate's -o;\n"
+          "meshes: triangulate's -o, check, diff):\n", f);
+    for (int k = 0; k < IO_FMT_COUNT; k++)
+        fprintf(f, "  %-6s %s\n", io_formats[k].ext, io_formats[k].description);
+    fputs("Exact duplicate points are counted and mapped to their first occurrence, never\n"
+          "silently dropped.\n"
+          "\n"
+          "Exit codes: 0 ok, 1 usage, 2 bad input file or data (or unwritable output),\n"
+          "3 degenerate input (all points coplanar, collinear or fewer than 4 distinct),\n"
+          "4 out of memory, 5 check failed (diff: the meshes differ).  A failed run leaves no\n"
+          "partial output file.\n"
+          "\n"
+          "Generator kinds:\n", f);
     for (const char *const *k = io_generator_kinds(); *k; k++)
         fprintf(f, "  %-20s %s\n", *k, io_generator_help(*k));
 }
@@ -116,6 +75,12 @@ int cli_exit_of_io(io_status s)
     return CLI_BAD_INPUT;
 }
 
+int cli_io_failed(io_status s, const io_error *e)
+{
+    cli_error("%s", e->message);
+    return cli_exit_of_io(s);
+}
+
 int cli_exit_of_gtet(gtet_status s)
 {
     switch (s) {
@@ -142,21 +107,6 @@ int cli_parse_u64(const char *s, uint64_t max, uint64_t *v)
         x = x * 10 + d;
     }
     *v = x;
-    return 1;
-}
-
-int cli_opt_value(int argc, char **argv, int *i, const char *name, const char **val)
-{
-    const char *a = argv[*i];
-    size_t l = strlen(name);
-    if (strncmp(a, name, l) != 0) return 0;
-    if (a[l] == '=' && name[1] == '-') {
-        *val = a + l + 1;
-        return 1;
-    }
-    if (a[l] != '\0') return 0;
-    if (*i + 1 >= argc) return -1;
-    *val = argv[++*i];
     return 1;
 }
 
@@ -194,9 +144,11 @@ int main(int argc, char **argv)
             print_help(stdout);
             return CLI_OK;
         }
-    if (!strcmp(cmd, "triangulate")) return cli_triangulate(argc - 2, argv + 2);
-    if (!strcmp(cmd, "check")) return cli_check(argc - 2, argv + 2);
-    if (!strcmp(cmd, "diff")) return cli_diff(argc - 2, argv + 2);
-    if (!strcmp(cmd, "generate")) return cli_generate(argc - 2, argv + 2);
-    return cli_usage("unknown command '%s' (triangulate, check, diff, generate)", cmd);
+    for (int c = 0; c < NCOMMANDS; c++)
+        if (!strcmp(cmd, commands[c]->name)) return commands[c]->run(argc - 2, argv + 2);
+    char names[128] = "";
+    for (int c = 0; c < NCOMMANDS; c++)
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", c ? ", " : "",
+                 commands[c]->name);
+    return cli_usage("unknown command '%s' (%s)", cmd, names);
 }

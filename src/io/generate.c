@@ -9,8 +9,8 @@
  *
  *   uniform      n points uniform in [0,1)^3 (53 random bits per coordinate)
  *   ball         n points uniform in the unit ball (rejection sampling)
- *   sphere       n points on the unit sphere (normalised Gaussian vectors; rounding puts
- *                them within an ulp of it, so they are not exactly co-spherical)
+ *   sphere       n points on the unit sphere (points of the ball projected onto it; rounding
+ *                leaves them within an ulp of it, so they are not exactly co-spherical)
  *   grid         k^3 integer points {0..k-1}^3, k = round(cbrt(n)): massively co-spherical
  *   jittered     the same grid, each coordinate moved by a uniform amount in [-2^-20, 2^-20]
  *                (near-degenerate: the filters' hard case)
@@ -166,58 +166,39 @@ static void lattice(double *a, int64_t k, int bcc)
 
 static size_t absdiff(size_t a, size_t b) { return a > b ? a - b : b - a; }
 
-io_status io_generate(const char *kind, size_t n, uint64_t seed, double **xyz, size_t *n_out,
-                      io_error *err)
+/* How many points kind `name` makes for a request of n, and its size parameter *k (the side
+ * of a grid, the radius of the sphere, the lattice's half side). */
+static size_t gen_size(const char *name, size_t n, int64_t *k)
 {
-    *xyz = NULL;
-    *n_out = 0;
-    int which = -1;
-    for (int i = 0; kinds[i]; i++)
-        if (strcmp(kinds[i], kind) == 0) which = i;
-    if (which < 0) return io_fail(err, IO_ERR_ARGUMENT, "unknown generator kind '%s'", kind);
-    if (n < 1 || n > (size_t)UINT32_MAX)
-        return io_fail(err, IO_ERR_ARGUMENT, "the number of points must be in 1..%u", UINT32_MAX);
-    rng r = {seed};
-    size_t m = n;          /* points to produce */
-    int64_t k = 0;
-    const char *name = kinds[which];
-    /* sizes of the lattice kinds */
+    *k = 0;
     if (!strcmp(name, "grid") || !strcmp(name, "jittered")) {
-        k = (int64_t)icbrt_round(n);
-        m = (size_t)(k * k * k);
-    } else if (!strcmp(name, "paraboloid")) {
-        k = (int64_t)llround(sqrt((double)n));
-        if (k < 2) k = 2;
-        m = (size_t)((k / 2 * 2 + 1) * (k / 2 * 2 + 1));
-    } else if (!strcmp(name, "cospherical")) {
-        k = (int64_t)(n / 6 > 3 ? n / 6 : 3);
-        while (!is_prime((uint64_t)k)) k++;
-        m = cospherical(NULL, k);
-    } else if (!strcmp(name, "fcc") || !strcmp(name, "bcc")) {
-        int bcc = name[0] == 'b';
-        k = 1;
-        while (absdiff(lattice_size(k + 1, bcc), n) < absdiff(lattice_size(k, bcc), n)) k++;
-        m = lattice_size(k, bcc);
+        *k = (int64_t)icbrt_round(n);
+        return (size_t)(*k * *k * *k);
     }
-    double *a = malloc(m * 3 * sizeof(double));
-    if (!a) return io_fail(err, IO_ERR_NOMEM, "out of memory for %zu points", m);
-    if (!strcmp(name, "uniform")) {
-        for (size_t i = 0; i < 3 * m; i++) a[i] = uniform(&r);
-    } else if (!strcmp(name, "ball") || !strcmp(name, "sphere")) {
-        for (size_t i = 0; i < m; i++) {
-            double p[3], q;
-            do {
-                for (int c = 0; c < 3; c++) p[c] = 2.0 * uniform(&r) - 1.0;
-                q = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-            } while (q > 1.0 || q < 1e-6);
-            if (name[0] == 's') {
-                double s = 1.0 / sqrt(q);
-                for (int c = 0; c < 3; c++) p[c] *= s;
-            }
-            memcpy(a + 3 * i, p, sizeof p);
-        }
-    } else if (!strcmp(name, "grid") || !strcmp(name, "jittered")) {
-        size_t c = 0;
+    if (!strcmp(name, "paraboloid")) {
+        *k = (int64_t)llround(sqrt((double)n));
+        if (*k < 2) *k = 2;
+        return (size_t)((*k / 2 * 2 + 1) * (*k / 2 * 2 + 1));
+    }
+    if (!strcmp(name, "cospherical")) {
+        *k = (int64_t)(n / 6 > 3 ? n / 6 : 3);
+        while (!is_prime((uint64_t)*k)) (*k)++;
+        return cospherical(NULL, *k);
+    }
+    if (!strcmp(name, "fcc") || !strcmp(name, "bcc")) {
+        int bcc = name[0] == 'b';
+        *k = 1;
+        while (absdiff(lattice_size(*k + 1, bcc), n) < absdiff(lattice_size(*k, bcc), n)) (*k)++;
+        return lattice_size(*k, bcc);
+    }
+    return n;
+}
+
+/* The exact kinds (no randomness but the jitter): 1 when `name` is one of them. */
+static int gen_exact(const char *name, double *a, size_t m, int64_t k, rng *r)
+{
+    size_t c = 0;
+    if (!strcmp(name, "grid") || !strcmp(name, "jittered")) {
         for (int64_t i = 0; i < k; i++)
             for (int64_t j = 0; j < k; j++)
                 for (int64_t l = 0; l < k; l++, c++) {
@@ -226,10 +207,9 @@ io_status io_generate(const char *kind, size_t n, uint64_t seed, double **xyz, s
                     a[3 * c + 2] = (double)l;
                     if (name[0] == 'j')
                         for (int d = 0; d < 3; d++)
-                            a[3 * c + (size_t)d] += (2.0 * uniform(&r) - 1.0) * 0x1p-20;
+                            a[3 * c + (size_t)d] += (2.0 * uniform(r) - 1.0) * 0x1p-20;
                 }
     } else if (!strcmp(name, "paraboloid")) {
-        size_t c = 0;
         for (int64_t i = -k / 2; i <= k / 2; i++)
             for (int64_t j = -k / 2; j <= k / 2; j++, c++) {
                 a[3 * c] = (double)i;
@@ -242,35 +222,90 @@ io_status io_generate(const char *kind, size_t n, uint64_t seed, double **xyz, s
         lattice(a, k, name[0] == 'b');
     } else if (!strcmp(name, "plane-apex") || !strcmp(name, "plane-apex-denormal")) {
         for (size_t i = 0; i + 1 < m; i++) {
-            a[3 * i] = uniform(&r);
-            a[3 * i + 1] = uniform(&r);
+            a[3 * i] = uniform(r);
+            a[3 * i + 1] = uniform(r);
             a[3 * i + 2] = 0.0;
         }
         a[3 * (m - 1)] = 0.5;
         a[3 * (m - 1) + 1] = 0.5;
         a[3 * (m - 1) + 2] = strlen(name) > 10 ? 0x1p-1074 : 1.0;
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
+/* Points of the unit ball by rejection from the cube (not too near the centre, so that
+ * `sphere` can project them onto the unit sphere). */
+static void ball(double *a, size_t m, rng *r, int on_sphere)
+{
+    for (size_t i = 0; i < m; i++) {
+        double p[3], q;
+        do {
+            for (int c = 0; c < 3; c++) p[c] = 2.0 * uniform(r) - 1.0;
+            q = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+        } while (q > 1.0 || q < 1e-6);
+        if (on_sphere) {
+            double s = 1.0 / sqrt(q);
+            for (int c = 0; c < 3; c++) p[c] *= s;
+        }
+        memcpy(a + 3 * i, p, sizeof p);
+    }
+}
+
+/* The random kinds. */
+static io_status gen_random(const char *name, double *a, size_t m, rng *r, io_error *err)
+{
+    if (!strcmp(name, "uniform")) {
+        for (size_t i = 0; i < 3 * m; i++) a[i] = uniform(r);
+    } else if (!strcmp(name, "ball") || !strcmp(name, "sphere")) {
+        ball(a, m, r, name[0] == 's');
     } else if (!strcmp(name, "far-point")) {
-        for (size_t i = 0; i < 3 * (m - 1); i++) a[i] = uniform(&r);
+        for (size_t i = 0; i < 3 * (m - 1); i++) a[i] = uniform(r);
         for (int d = 0; d < 3; d++) a[3 * (m - 1) + (size_t)d] = 1e6;
     } else if (!strcmp(name, "cauchy")) {
         for (size_t i = 0; i < 3 * m; i++) {
             double den;
-            do den = gauss(&r); while (den == 0.0);
-            a[i] = gauss(&r) / den;
+            do den = gauss(r); while (den == 0.0);
+            a[i] = gauss(r) / den;
         }
     } else { /* clustered */
         size_t nc = 1 + m / 1000;
         double *ctr = malloc(nc * 3 * sizeof(double));
-        if (!ctr) {
-            free(a);
-            return io_fail(err, IO_ERR_NOMEM, "out of memory for %zu cluster centres", nc);
-        }
-        for (size_t i = 0; i < 3 * nc; i++) ctr[i] = uniform(&r);
+        if (!ctr) return io_fail(err, IO_ERR_NOMEM, "out of memory for %zu cluster centres", nc);
+        for (size_t i = 0; i < 3 * nc; i++) ctr[i] = uniform(r);
         for (size_t i = 0; i < m; i++) {
-            size_t c = (size_t)(next(&r) % nc);
-            for (int d = 0; d < 3; d++) a[3 * i + (size_t)d] = ctr[3 * c + (size_t)d] + 0.01 * gauss(&r);
+            size_t c = (size_t)(next(r) % nc);
+            for (int d = 0; d < 3; d++) a[3 * i + (size_t)d] = ctr[3 * c + (size_t)d] + 0.01 * gauss(r);
         }
         free(ctr);
+    }
+    return IO_OK;
+}
+
+io_status io_generate(const char *kind, size_t n, uint64_t seed, double **xyz, size_t *n_out,
+                      io_error *err)
+{
+    *xyz = NULL;
+    *n_out = 0;
+    int which = -1;
+    for (int i = 0; kinds[i]; i++)
+        if (strcmp(kinds[i], kind) == 0) which = i;
+    if (which < 0) return io_fail(err, IO_ERR_ARGUMENT, "unknown generator kind '%s'", kind);
+    if (n < 1 || n > (size_t)UINT32_MAX)
+        return io_fail(err, IO_ERR_ARGUMENT, "the number of points must be in 1..%u", UINT32_MAX);
+    rng r = {seed};
+    const char *name = kinds[which];
+    int64_t k;
+    size_t m = gen_size(name, n, &k);
+    double *a = malloc(m * 3 * sizeof(double));
+    if (!a) return io_fail(err, IO_ERR_NOMEM, "out of memory for %zu points", m);
+    if (!gen_exact(name, a, m, k, &r)) {
+        io_status s = gen_random(name, a, m, &r, err);
+        if (s != IO_OK) {
+            free(a);
+            return s;
+        }
     }
     *xyz = a;
     *n_out = m;

@@ -67,7 +67,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* The values are the CLI's exit codes for the kinds of failure (see src/cli/main.c). */
+/* Kinds of failure.  The CLI maps them to its exit codes (cli_exit_of_io in src/cli/main.c:
+ * IO_ERR_ARGUMENT -> 1 usage, IO_ERR_INPUT and IO_ERR_WRITE -> 2, IO_ERR_NOMEM -> 4). */
 typedef enum io_status {
     IO_OK = 0,
     IO_ERR_ARGUMENT = 1,  /* unknown extension / generator kind, bad parameter */
@@ -86,9 +87,34 @@ typedef enum io_format {
     IO_FMT_XYZ, IO_FMT_NODE, IO_FMT_PLY, IO_FMT_BIN,   /* point sets */
     IO_FMT_ELE, IO_FMT_MSH, IO_FMT_VTU                 /* meshes */
 } io_format;
+#define IO_FMT_COUNT 7
+
+/* What a format's reader and writer handle (io_format_info.can). */
+enum {
+    IO_READ_POINTS = 1u,
+    IO_WRITE_POINTS = 2u,
+    IO_READ_MESH = 4u,
+    IO_WRITE_MESH = 8u
+};
+
+/* The one list of file formats: every extension check, error message and help text is drawn
+ * from it.  io_formats[k].fmt == k + 1. */
+typedef struct io_format_info {
+    io_format fmt;
+    const char *ext;          /* ".xyz": lower case, matched case-insensitively */
+    unsigned can;             /* IO_READ_POINTS | IO_WRITE_POINTS | IO_READ_MESH | IO_WRITE_MESH */
+    const char *companion;    /* the file read and written beside it (".node" for .ele), or NULL */
+    const char *description;  /* one line for --help */
+} io_format_info;
+extern const io_format_info io_formats[IO_FMT_COUNT];
 
 /* The format a file name's extension names, or IO_FMT_UNKNOWN. */
 io_format io_format_of(const char *path);
+/* 1 when fmt has every capability of `can`, 0 otherwise (IO_FMT_UNKNOWN has none). */
+int io_format_can(io_format fmt, unsigned can);
+/* The extensions of the formats with every capability of `can`, as ".a, .b or .c" (with
+ * `companions`: ".ele (with its .node)"), NUL-terminated in buf (cut to size); returns buf. */
+const char *io_format_list(unsigned can, int companions, char *buf, size_t size);
 
 /* ---- point sets -------------------------------------------------------------------------- */
 
@@ -101,7 +127,7 @@ io_status io_read_points(const char *path, double **xyz, size_t *n, io_error *er
 io_status io_parse_points(io_format fmt, const char *name, const void *data, size_t len,
                           double **xyz, size_t *n, io_error *err);
 
-/* Write n points to path (.xyz, .node, .ply, .bin), atomically. */
+/* Write n points to path (a format with IO_WRITE_POINTS), atomically. */
 io_status io_write_points(const char *path, const double *xyz, size_t n, io_error *err);
 
 /* ---- meshes ------------------------------------------------------------------------------ */
@@ -114,11 +140,11 @@ typedef struct io_mesh {
     size_t skipped_cells;   /* cells that are not linear tetrahedra (.msh, .vtu), not read */
 } io_mesh;
 
-/* Write a tet mesh (.ele, .msh, .vtu), atomically (for .ele both files or neither). */
+/* Write a tet mesh (a format with IO_WRITE_MESH), atomically (for .ele both files or neither). */
 io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
                         const uint32_t *tets, size_t nt, io_error *err);
 
-/* Read a tet mesh (.ele with its .node, .msh, .vtu; see the top of this file).  Vertex ids
+/* Read a tet mesh (a format with IO_READ_MESH; see the top of this file).  Vertex ids
  * are range-checked.  On failure *mesh is zeroed. */
 io_status io_read_mesh(const char *path, io_mesh *mesh, io_error *err);
 /* The same readers on bytes in memory (any bytes: the fuzzers' entry point); `name` is only

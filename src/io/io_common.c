@@ -1,5 +1,5 @@
-/* io_common.c -- errors, whole-file loading, text tokens, atomic output files and the format
- * dispatch of io.h.
+/* io_common.c -- the table of formats, errors, whole-file loading, text tokens, atomic
+ * output files and the point readers' dispatch of io.h.
  *
  * Atomic output: io_out_open creates "PATH.tmp-PID-N" with O_CREAT|O_EXCL (never reusing or
  * following an existing file; the process umask applies as to any new file), io_out_close
@@ -33,6 +33,25 @@ io_status io_fail(io_error *err, io_status status, const char *fmt, ...)
     return status;
 }
 
+/* ---- the formats ------------------------------------------------------------------------- */
+
+const io_format_info io_formats[IO_FMT_COUNT] = {
+    {IO_FMT_XYZ, ".xyz", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
+     "points: x y z per line, '#' comments"},
+    {IO_FMT_NODE, ".node", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
+     "points: TetGen, 0- or 1-based (written 1-based)"},
+    {IO_FMT_PLY, ".ply", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
+     "points: PLY ascii or binary_little_endian (written binary, double x y z)"},
+    {IO_FMT_BIN, ".bin", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
+     "points: little-endian uint64 count, then count*3 little-endian doubles"},
+    {IO_FMT_ELE, ".ele", IO_READ_MESH | IO_WRITE_MESH, ".node",
+     "mesh: TetGen, NAME.ele with NAME.node, 0- or 1-based (written 1-based)"},
+    {IO_FMT_MSH, ".msh", IO_READ_MESH | IO_WRITE_MESH, NULL,
+     "mesh: Gmsh 4.1 or 2.2, ASCII or binary (written 4.1 ASCII)"},
+    {IO_FMT_VTU, ".vtu", IO_READ_MESH | IO_WRITE_MESH, NULL,
+     "mesh: VTK XML UnstructuredGrid, ascii, base64, appended, zlib (written ascii)"},
+};
+
 static int ext_is(const char *path, const char *ext)
 {
     size_t lp = strlen(path), le = strlen(ext);
@@ -45,14 +64,35 @@ static int ext_is(const char *path, const char *ext)
 io_format io_format_of(const char *path)
 {
     if (!path) return IO_FMT_UNKNOWN;
-    if (ext_is(path, ".xyz")) return IO_FMT_XYZ;
-    if (ext_is(path, ".node")) return IO_FMT_NODE;
-    if (ext_is(path, ".ply")) return IO_FMT_PLY;
-    if (ext_is(path, ".bin")) return IO_FMT_BIN;
-    if (ext_is(path, ".ele")) return IO_FMT_ELE;
-    if (ext_is(path, ".msh")) return IO_FMT_MSH;
-    if (ext_is(path, ".vtu")) return IO_FMT_VTU;
+    for (int k = 0; k < IO_FMT_COUNT; k++)
+        if (ext_is(path, io_formats[k].ext)) return io_formats[k].fmt;
     return IO_FMT_UNKNOWN;
+}
+
+int io_format_can(io_format fmt, unsigned can)
+{
+    if (fmt <= IO_FMT_UNKNOWN || fmt > IO_FMT_COUNT) return 0;
+    return (io_formats[fmt - 1].can & can) == can;
+}
+
+const char *io_format_list(unsigned can, int companions, char *buf, size_t size)
+{
+    int n = 0, k = 0;
+    for (int i = 0; i < IO_FMT_COUNT; i++) n += (io_formats[i].can & can) == can;
+    size_t at = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < IO_FMT_COUNT && at < size; i++) {
+        const io_format_info *f = &io_formats[i];
+        if ((f->can & can) != can) continue;
+        const char *sep = k == 0 ? "" : k == n - 1 ? " or " : ", ";
+        int w = companions && f->companion
+                    ? snprintf(buf + at, size - at, "%s%s (with its %s)", sep, f->ext, f->companion)
+                    : snprintf(buf + at, size - at, "%s%s", sep, f->ext);
+        if (w < 0) break;
+        at += (size_t)w;
+        k++;
+    }
+    return buf;
 }
 
 io_status io_load_file(const char *path, char **buf, size_t *len, io_error *err)
@@ -248,6 +288,13 @@ io_status io_dvec_push3(io_dvec *v, const double x[3], const char *name, io_erro
 
 /* ---- dispatch ---------------------------------------------------------------------------- */
 
+static io_status unknown_points(io_error *err, const char *name)
+{
+    char list[128];
+    return io_fail(err, IO_ERR_INPUT, "%s: unknown point file extension (expected %s)", name,
+                   io_format_list(IO_READ_POINTS, 0, list, sizeof list));
+}
+
 static io_status parse_nul(io_format fmt, const char *name, const char *buf, size_t len,
                            double **xyz, size_t *n, io_error *err)
 {
@@ -258,9 +305,7 @@ static io_status parse_nul(io_format fmt, const char *name, const char *buf, siz
     case IO_FMT_PLY: return io_parse_ply(name, buf, len, xyz, n, err);
     case IO_FMT_BIN: return io_parse_bin(name, (const unsigned char *)buf, len, xyz, n, err);
     default:
-        return io_fail(err, IO_ERR_INPUT,
-                       "%s: unknown point file extension (expected .xyz, .node, .ply or .bin)",
-                       name);
+        return unknown_points(err, name);
     }
 }
 
@@ -283,10 +328,7 @@ io_status io_read_points(const char *path, double **xyz, size_t *n, io_error *er
     *xyz = NULL;
     *n = 0;
     io_format fmt = io_format_of(path);
-    if (fmt < IO_FMT_XYZ || fmt > IO_FMT_BIN)
-        return io_fail(err, IO_ERR_INPUT,
-                       "%s: unknown point file extension (expected .xyz, .node, .ply or .bin)",
-                       path);
+    if (!io_format_can(fmt, IO_READ_POINTS)) return unknown_points(err, path);
     if (fmt == IO_FMT_BIN) return io_read_bin_file(path, xyz, n, err);
     char *buf;
     size_t len;

@@ -29,6 +29,13 @@ static char *copy_nul(const void *data, size_t len)
     return c;
 }
 
+static io_status unknown_mesh(io_error *err, const char *name)
+{
+    char list[128];
+    return io_fail(err, IO_ERR_INPUT, "%s: unknown mesh file extension (%s are read)", name,
+                   io_format_list(IO_READ_MESH, 0, list, sizeof list));
+}
+
 /* The parsers on NUL-terminated buffers; nbuf is the .node of an .ele. */
 static io_status parse_nul(io_format fmt, const char *name, const char *buf, size_t len,
                            const char *node_name, const char *nbuf, size_t nlen, io_mesh *m,
@@ -39,8 +46,7 @@ static io_status parse_nul(io_format fmt, const char *name, const char *buf, siz
     case IO_FMT_MSH: return io_parse_msh(name, buf, len, m, err);
     case IO_FMT_VTU: return io_parse_vtu(name, buf, len, m, err);
     default:
-        return io_fail(err, IO_ERR_INPUT, "%s: unknown mesh file extension (.ele, .msh or .vtu "
-                       "are read)", name);
+        return unknown_mesh(err, name);
     }
 }
 
@@ -69,9 +75,7 @@ io_status io_read_mesh(const char *path, io_mesh *m, io_error *err)
 {
     memset(m, 0, sizeof *m);
     io_format fmt = io_format_of(path);
-    if (fmt != IO_FMT_ELE && fmt != IO_FMT_MSH && fmt != IO_FMT_VTU)
-        return io_fail(err, IO_ERR_INPUT, "%s: unknown mesh file extension (.ele, .msh or .vtu "
-                       "are read)", path);
+    if (!io_format_can(fmt, IO_READ_MESH)) return unknown_mesh(err, path);
     char *buf = NULL, *nbuf = NULL, *node_path = NULL;
     size_t len = 0, nlen = 0;
     io_status s;

@@ -55,20 +55,12 @@ static int ply_type(const char *s, size_t len)
     return -1;
 }
 
-static uint64_t le_u64(const unsigned char *p)
-{
-    uint64_t v = 0;
-    for (int i = 7; i >= 0; i--) v = (v << 8) | p[i];
-    return v;
-}
-
 /* Value of a little-endian binary scalar of type ty at p, as a double (exact for every type:
  * the integers have at most 32 bits, floats widen exactly). */
 static double le_value(int ty, const unsigned char *p)
 {
-    uint64_t u = 0;
     int size = ply_types[ty].size;
-    for (int i = size - 1; i >= 0; i--) u = (u << 8) | p[i];
+    uint64_t u = io_load_le(p, (size_t)size);
     switch (ply_types[ty].kind) {
     case 'u': return (double)u;
     case 's': {
@@ -118,114 +110,157 @@ typedef struct ply_header {
     ply_element el[PLY_MAX_ELEMENTS];
 } ply_header;
 
+/* The words of one header line, and where it is (for messages). */
+typedef struct ply_line {
+    const char *name;
+    size_t line;
+    int k;
+    const char *w[6];
+    size_t wl[6];
+} ply_line;
+
+/* At most 40 bytes of word i, for messages. */
+#define PLY_WORD(l, i) (int)((l)->wl[i] > 40 ? 40 : (l)->wl[i]), (l)->w[i]
+
+static io_status ply_format_line(const ply_line *l, ply_header *h, io_error *err)
+{
+    if (l->k != 3 || !word_is(l->w[2], l->wl[2], "1.0"))
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed format line", l->name, l->line);
+    if (word_is(l->w[1], l->wl[1], "ascii")) h->binary = 0;
+    else if (word_is(l->w[1], l->wl[1], "binary_little_endian")) h->binary = 1;
+    else
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: unsupported PLY format '%.*s' (ascii and "
+                       "binary_little_endian are read)", l->name, l->line, PLY_WORD(l, 1));
+    return IO_OK;
+}
+
+static io_status ply_element_line(const ply_line *l, ply_header *h, io_error *err)
+{
+    if (l->k != 3)
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed element line", l->name, l->line);
+    if (h->nel == PLY_MAX_ELEMENTS)
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: more than %d elements", l->name, l->line,
+                       PLY_MAX_ELEMENTS);
+    ply_element *e = &h->el[h->nel];
+    io_text t = {.name = l->name, .line = l->line};
+    if (io_text_uint(&t, l->w[2], l->w[2] + l->wl[2], "the element count", UINT64_MAX,
+                     &e->count, err) != IO_OK)
+        return IO_ERR_INPUT;
+    size_t nl = l->wl[1] < sizeof e->name ? l->wl[1] : sizeof e->name - 1;
+    memcpy(e->name, l->w[1], nl);
+    e->name[nl] = '\0';
+    e->nprops = 0;
+    if (word_is(l->w[1], l->wl[1], "vertex")) {
+        if (h->vertex >= 0)
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: a second vertex element", l->name, l->line);
+        h->vertex = h->nel;
+    }
+    h->nel++;
+    return IO_OK;
+}
+
+static io_status ply_property_line(const ply_line *l, ply_header *h, io_error *err)
+{
+    if (h->nel == 0)
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: a property before any element", l->name, l->line);
+    ply_element *e = &h->el[h->nel - 1];
+    if (e->nprops == PLY_MAX_PROPS)
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: more than %d properties", l->name, l->line,
+                       PLY_MAX_PROPS);
+    ply_prop *pr = &e->props[e->nprops];
+    int last;   /* the word that names the property */
+    if (l->k == 5 && word_is(l->w[1], l->wl[1], "list")) {
+        pr->count_type = ply_type(l->w[2], l->wl[2]);
+        pr->type = ply_type(l->w[3], l->wl[3]);
+        if (pr->count_type < 0 || pr->type < 0 || ply_types[pr->count_type].kind == 'f')
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed list property", l->name, l->line);
+        last = 4;
+    } else if (l->k == 3) {
+        pr->count_type = -1;
+        pr->type = ply_type(l->w[1], l->wl[1]);
+        if (pr->type < 0)
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: unknown property type '%.*s'", l->name,
+                           l->line, PLY_WORD(l, 1));
+        last = 2;
+    } else {
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed property line", l->name, l->line);
+    }
+    const char *pn = l->w[last];
+    pr->coord = -1;
+    if (l->wl[last] == 1 && (*pn == 'x' || *pn == 'y' || *pn == 'z') && h->vertex == h->nel - 1) {
+        int c = *pn - 'x';
+        for (int i = 0; i < e->nprops; i++)
+            if (e->props[i].coord == c)
+                return io_fail(err, IO_ERR_INPUT, "%s:%zu: property %c declared twice", l->name,
+                               l->line, *pn);
+        if (pr->count_type >= 0)
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: property %c is a list", l->name, l->line, *pn);
+        pr->coord = c;
+    }
+    e->nprops++;
+    return IO_OK;
+}
+
+/* After end_header: a format line was seen, and one vertex element with x, y, z and points. */
+static io_status ply_header_complete(const char *name, int have_format, const ply_header *h,
+                                     io_error *err)
+{
+    if (!have_format) return io_fail(err, IO_ERR_INPUT, "%s: the PLY header has no format line", name);
+    if (h->vertex < 0) return io_fail(err, IO_ERR_INPUT, "%s: the PLY header declares no vertex element", name);
+    const ply_element *v = &h->el[h->vertex];
+    int seen = 0;
+    for (int i = 0; i < v->nprops; i++)
+        if (v->props[i].coord >= 0) seen |= 1 << v->props[i].coord;
+    if (seen != 7)
+        return io_fail(err, IO_ERR_INPUT, "%s: the vertex element lacks property %c", name,
+                       !(seen & 1) ? 'x' : !(seen & 2) ? 'y' : 'z');
+    if (v->count == 0) return io_fail(err, IO_ERR_INPUT, "%s: the PLY file declares 0 vertices", name);
+    return IO_OK;
+}
+
 static io_status ply_parse_header(const char *name, const char *buf, size_t len, ply_header *h,
                                   io_error *err)
 {
     const char *p = buf, *end = buf + len;
-    size_t line = 0;
+    ply_line l = {.name = name};
     int have_format = 0, done = 0;
+    io_status s = IO_OK;
     h->nel = 0;
     h->vertex = -1;
-    while (p < end && !done) {
+    while (p < end && !done && s == IO_OK) {
         const char *nl = memchr(p, '\n', (size_t)(end - p));
-        if (!nl) return io_fail(err, IO_ERR_INPUT, "%s:%zu: the PLY header has no end_header", name, line + 1);
-        const char *w[6];
-        size_t wl[6];
-        int k = words(p, nl, w, wl);
-        line++;
+        if (!nl) return io_fail(err, IO_ERR_INPUT, "%s:%zu: the PLY header has no end_header", name, l.line + 1);
+        l.k = words(p, nl, l.w, l.wl);
+        l.line++;
         p = nl + 1;
-        if (line == 1) {
-            if (k != 1 || !word_is(w[0], wl[0], "ply"))
+        if (l.line == 1) {
+            if (l.k != 1 || !word_is(l.w[0], l.wl[0], "ply"))
                 return io_fail(err, IO_ERR_INPUT, "%s:1: not a PLY file (the first line is not 'ply')", name);
             continue;
         }
-        if (k == 0) continue;
-        if (word_is(w[0], wl[0], "comment") || word_is(w[0], wl[0], "obj_info")) continue;
-        if (word_is(w[0], wl[0], "end_header")) {
+        if (l.k == 0) continue;
+        const char *w0 = l.w[0];
+        size_t wl0 = l.wl[0];
+        if (word_is(w0, wl0, "comment") || word_is(w0, wl0, "obj_info")) continue;
+        if (word_is(w0, wl0, "end_header")) {
             done = 1;
-        } else if (word_is(w[0], wl[0], "format")) {
-            if (k != 3 || !word_is(w[2], wl[2], "1.0"))
-                return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed format line", name, line);
-            if (word_is(w[1], wl[1], "ascii")) h->binary = 0;
-            else if (word_is(w[1], wl[1], "binary_little_endian")) h->binary = 1;
-            else
-                return io_fail(err, IO_ERR_INPUT, "%s:%zu: unsupported PLY format '%.*s' (ascii and "
-                               "binary_little_endian are read)", name, line, (int)(wl[1] > 40 ? 40 : wl[1]), w[1]);
+        } else if (word_is(w0, wl0, "format")) {
+            s = ply_format_line(&l, h, err);
             have_format = 1;
-        } else if (word_is(w[0], wl[0], "element")) {
-            if (k != 3)
-                return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed element line", name, line);
-            if (h->nel == PLY_MAX_ELEMENTS)
-                return io_fail(err, IO_ERR_INPUT, "%s:%zu: more than %d elements", name, line, PLY_MAX_ELEMENTS);
-            ply_element *e = &h->el[h->nel];
-            io_text t = {.name = name, .line = line};
-            if (io_text_uint(&t, w[2], w[2] + wl[2], "the element count", UINT64_MAX, &e->count, err) != IO_OK)
-                return IO_ERR_INPUT;
-            size_t nl2 = wl[1] < sizeof e->name ? wl[1] : sizeof e->name - 1;
-            memcpy(e->name, w[1], nl2);
-            e->name[nl2] = '\0';
-            e->nprops = 0;
-            if (word_is(w[1], wl[1], "vertex")) {
-                if (h->vertex >= 0)
-                    return io_fail(err, IO_ERR_INPUT, "%s:%zu: a second vertex element", name, line);
-                h->vertex = h->nel;
-            }
-            h->nel++;
-        } else if (word_is(w[0], wl[0], "property")) {
-            if (h->nel == 0)
-                return io_fail(err, IO_ERR_INPUT, "%s:%zu: a property before any element", name, line);
-            ply_element *e = &h->el[h->nel - 1];
-            if (e->nprops == PLY_MAX_PROPS)
-                return io_fail(err, IO_ERR_INPUT, "%s:%zu: more than %d properties", name, line, PLY_MAX_PROPS);
-            ply_prop *pr = &e->props[e->nprops];
-            const char *pn;
-            size_t pnl;
-            if (k == 5 && word_is(w[1], wl[1], "list")) {
-                pr->count_type = ply_type(w[2], wl[2]);
-                pr->type = ply_type(w[3], wl[3]);
-                if (pr->count_type < 0 || pr->type < 0 || ply_types[pr->count_type].kind == 'f')
-                    return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed list property", name, line);
-                pn = w[4];
-                pnl = wl[4];
-            } else if (k == 3) {
-                pr->count_type = -1;
-                pr->type = ply_type(w[1], wl[1]);
-                if (pr->type < 0)
-                    return io_fail(err, IO_ERR_INPUT, "%s:%zu: unknown property type '%.*s'", name, line,
-                                   (int)(wl[1] > 40 ? 40 : wl[1]), w[1]);
-                pn = w[2];
-                pnl = wl[2];
-            } else {
-                return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed property line", name, line);
-            }
-            pr->coord = -1;
-            if (pnl == 1 && (*pn == 'x' || *pn == 'y' || *pn == 'z') && h->vertex == h->nel - 1) {
-                int c = *pn - 'x';
-                for (int i = 0; i < e->nprops; i++)
-                    if (e->props[i].coord == c)
-                        return io_fail(err, IO_ERR_INPUT, "%s:%zu: property %c declared twice", name, line, *pn);
-                if (pr->count_type >= 0)
-                    return io_fail(err, IO_ERR_INPUT, "%s:%zu: property %c is a list", name, line, *pn);
-                pr->coord = c;
-            }
-            e->nprops++;
+        } else if (word_is(w0, wl0, "element")) {
+            s = ply_element_line(&l, h, err);
+        } else if (word_is(w0, wl0, "property")) {
+            s = ply_property_line(&l, h, err);
         } else {
-            return io_fail(err, IO_ERR_INPUT, "%s:%zu: unknown PLY header keyword '%.*s'", name, line,
-                           (int)(wl[0] > 40 ? 40 : wl[0]), w[0]);
+            return io_fail(err, IO_ERR_INPUT, "%s:%zu: unknown PLY header keyword '%.*s'", name,
+                           l.line, PLY_WORD(&l, 0));
         }
     }
+    if (s != IO_OK) return s;
     if (!done) return io_fail(err, IO_ERR_INPUT, "%s: the PLY header has no end_header", name);
-    if (!have_format) return io_fail(err, IO_ERR_INPUT, "%s: the PLY header has no format line", name);
-    if (h->vertex < 0) return io_fail(err, IO_ERR_INPUT, "%s: the PLY header declares no vertex element", name);
-    int seen = 0;
-    for (int i = 0; i < h->el[h->vertex].nprops; i++)
-        if (h->el[h->vertex].props[i].coord >= 0) seen |= 1 << h->el[h->vertex].props[i].coord;
-    if (seen != 7)
-        return io_fail(err, IO_ERR_INPUT, "%s: the vertex element lacks property %c", name,
-                       !(seen & 1) ? 'x' : !(seen & 2) ? 'y' : 'z');
-    if (h->el[h->vertex].count == 0) return io_fail(err, IO_ERR_INPUT, "%s: the PLY file declares 0 vertices", name);
+    if ((s = ply_header_complete(name, have_format, h, err)) != IO_OK) return s;
     h->data = (size_t)(p - buf);
-    h->lines = line;
+    h->lines = l.line;
     return IO_OK;
 }
 
@@ -389,7 +424,7 @@ io_status io_parse_bin(const char *name, const unsigned char *buf, size_t len, d
     if (len < 8)
         return io_fail(err, IO_ERR_INPUT, "%s: %zu bytes, too short for the 8-byte point count",
                        name, len);
-    uint64_t count = le_u64(buf);
+    uint64_t count = io_load_le(buf, 8);
     if (count == 0) return io_fail(err, IO_ERR_INPUT, "%s: the header declares 0 points", name);
     if (count > (len - 8) / 24)
         return io_fail(err, IO_ERR_INPUT, "%s: the header claims %llu points, but the file holds "
@@ -403,7 +438,7 @@ io_status io_parse_bin(const char *name, const unsigned char *buf, size_t len, d
     if (!a) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %llu points", name,
                            (unsigned long long)count);
     for (size_t i = 0; i < 3 * (size_t)count; i++) {
-        uint64_t u = le_u64(buf + 8 + 8 * i);
+        uint64_t u = io_load_le(buf + 8 + 8 * i, 8);
         double d;
         memcpy(&d, &u, 8);
         if (!isfinite(d)) {
@@ -424,7 +459,7 @@ static io_status bin_decode(const char *name, double *a, size_t count, io_error 
     for (size_t i = 0; i < 3 * count; i++) {
         unsigned char b[8];
         memcpy(b, &a[i], 8);
-        uint64_t u = le_u64(b);
+        uint64_t u = io_load_le(b, 8);
         double d;
         memcpy(&d, &u, 8);
         if (!isfinite(d))
@@ -474,7 +509,7 @@ io_status io_read_bin_file(const char *path, double **xyz, size_t *n, io_error *
         /* the in-memory parser words the short-file errors */
         return io_parse_bin(path, h, len < 8 ? len : 0, xyz, n, err);
     }
-    uint64_t count = le_u64(h);
+    uint64_t count = io_load_le(h, 8);
     if (count == 0 || count > (len - 8) / 24 || len != 8 + 24 * count) {
         close(fd);
         /* same checks and messages as io_parse_bin, without reading the data */

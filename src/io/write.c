@@ -74,9 +74,10 @@ static void write_binary_doubles(FILE *f, const double *xyz, size_t n)
 io_status io_write_points(const char *path, const double *xyz, size_t n, io_error *err)
 {
     io_format fmt = io_format_of(path);
-    if (fmt < IO_FMT_XYZ || fmt > IO_FMT_BIN)
-        return io_fail(err, IO_ERR_ARGUMENT, "%s: unknown point file extension (use .xyz, .node, "
-                       ".ply or .bin)", path);
+    char list[128];
+    if (!io_format_can(fmt, IO_WRITE_POINTS))
+        return io_fail(err, IO_ERR_ARGUMENT, "%s: unknown point file extension (use %s)", path,
+                       io_format_list(IO_WRITE_POINTS, 0, list, sizeof list));
     io_out o;
     io_status s = io_out_open(&o, path, err);
     if (s != IO_OK) return s;
@@ -113,12 +114,14 @@ io_status io_write_points(const char *path, const double *xyz, size_t n, io_erro
 
 char *io_ele_node_path(const char *path)
 {
-    if (io_format_of(path) != IO_FMT_ELE) return NULL;
-    size_t l = strlen(path);
-    char *p = malloc(l + 2);
+    io_format fmt = io_format_of(path);
+    if (fmt != IO_FMT_ELE) return NULL;
+    const io_format_info *f = &io_formats[fmt - 1];
+    size_t l = strlen(path), le = strlen(f->ext), lc = strlen(f->companion);
+    char *p = malloc(l - le + lc + 1);
     if (!p) return NULL;
-    memcpy(p, path, l - 4);
-    memcpy(p + l - 4, ".node", 6);
+    memcpy(p, path, l - le);
+    memcpy(p + l - le, f->companion, lc + 1);
     return p;
 }
 
@@ -199,9 +202,10 @@ io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
                         const uint32_t *tets, size_t nt, io_error *err)
 {
     io_format fmt = io_format_of(path);
-    if (fmt != IO_FMT_ELE && fmt != IO_FMT_MSH && fmt != IO_FMT_VTU)
-        return io_fail(err, IO_ERR_ARGUMENT, "%s: unknown mesh file extension (use .ele, .msh or "
-                       ".vtu)", path);
+    char list[128];
+    if (!io_format_can(fmt, IO_WRITE_MESH))
+        return io_fail(err, IO_ERR_ARGUMENT, "%s: unknown mesh file extension (use %s)", path,
+                       io_format_list(IO_WRITE_MESH, 0, list, sizeof list));
     io_out o, on = {0};
     io_status s;
     char *node_path = NULL;
