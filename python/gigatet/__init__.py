@@ -143,8 +143,15 @@ class Delaunay:
         are c = T[t, :3] @ (x - T[t, 3]) and 1 - c.sum() (floating point)."""
         v = self.points[self.simplices]                      # (ns, 4, 3)
         t = np.empty((self.nsimplex, 4, 3))
-        a = np.swapaxes(v[:, :3, :] - v[:, 3:4, :], 1, 2)    # columns v_j - v_3
-        t[:, :3, :] = np.linalg.inv(a) if self.nsimplex else a
+        c = v[:, :3, :] - v[:, 3:4, :]                       # c[:, j] = v_j - v_3
+        # the inverse of the matrix with columns c_0, c_1, c_2: rows c_1 x c_2, c_2 x c_0,
+        # c_0 x c_1 over the determinant (stacked 3x3 inverses without LAPACK's overhead)
+        t[:, 0, :] = np.cross(c[:, 1], c[:, 2])
+        t[:, 1, :] = np.cross(c[:, 2], c[:, 0])
+        t[:, 2, :] = np.cross(c[:, 0], c[:, 1])
+        det = np.einsum("ij,ij->i", c[:, 0], t[:, 0, :])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t[:, :3, :] /= det[:, None, None]
         t[:, 3, :] = v[:, 3, :]
         return _readonly(t)
 
@@ -183,9 +190,12 @@ class Delaunay:
         z = self.lift_points(self.points[self.simplices])    # (ns, 4, 4)
         e = z[:, :3, :] - z[:, 3:4, :]                       # (ns, 3, 4)
         normal = np.empty((self.nsimplex, 4))
-        for k in range(4):
-            cols = [c for c in range(4) if c != k]
-            normal[:, k] = (-1) ** k * np.linalg.det(e[:, :, cols]) if self.nsimplex else 0
+        for k in range(4):                                   # cofactors: a 4D cross product
+            a, b, c = (e[:, :, j] for j in range(4) if j != k)
+            minor = (a[:, 0] * (b[:, 1] * c[:, 2] - b[:, 2] * c[:, 1])
+                     - a[:, 1] * (b[:, 0] * c[:, 2] - b[:, 2] * c[:, 0])
+                     + a[:, 2] * (b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0]))
+            normal[:, k] = minor if k % 2 == 0 else -minor
         normal *= -np.sign(normal[:, 3:4])                  # pointing down (last < 0)
         normal /= np.linalg.norm(normal, axis=1, keepdims=True)
         eq = np.empty((self.nsimplex, 5))

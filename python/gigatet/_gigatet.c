@@ -356,81 +356,65 @@ static PyObject *mesh_convex_hull(MeshObject *m, PyObject *noargs)
     return a;
 }
 
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return (x > y) - (x < y);
-}
-
-/* (indptr (n+1,), indices): the neighbours of input point i (as input indices, ascending
- * in vertex numbering) are indices[indptr[i]:indptr[i+1]]; duplicates have none. */
+/* (indptr (n+1,), indices): the neighbours of input point i (as input indices, ascending)
+ * are indices[indptr[i]:indptr[i+1]]; duplicates have none.  Through the vertex -> tets
+ * incidence, each neighbour taken once with a per-vertex mark. */
 static PyObject *mesh_vertex_neighbor_vertices(MeshObject *m, PyObject *noargs)
 {
     (void)noargs;
     const size_t nv = (size_t)m->nv, nt = (size_t)m->nt, n = (size_t)m->n;
     const uint32_t *t = gtet_mesh_tets(m->mesh);
-    /* vertex -> tets incidence (CSR), then per vertex the sorted distinct other vertices */
     size_t *start = calloc(nv + 1, sizeof *start);
+    size_t *pos = malloc((nv ? nv : 1) * sizeof *pos);
     uint32_t *inc = malloc((nt ? 4 * nt : 1) * sizeof *inc);
+    uint32_t *mark = malloc((nv ? nv : 1) * sizeof *mark);
     size_t *deg = calloc(nv + 1, sizeof *deg);
-    if (!start || !inc || !deg) {
-        free(start);
-        free(inc);
-        free(deg);
-        return PyErr_NoMemory();
-    }
-    int nomem = 0;
-    uint32_t *nbr = NULL;
+    size_t cap = nt ? 2 * nt : 1;  /* grows if needed; ~14 neighbours a vertex, 6.5 tets */
+    uint32_t *nbr = malloc(cap * sizeof *nbr);
+    int nomem = !start || !pos || !inc || !mark || !deg || !nbr;
     size_t total = 0;
     Py_BEGIN_ALLOW_THREADS
-    for (size_t i = 0; i < 4 * nt; i++) start[t[i] + 1]++;
-    for (size_t v = 0; v < nv; v++) start[v + 1] += start[v];
-    {
-        size_t *pos = deg;  /* reused as the fill cursor, then as the degree */
+    if (!nomem) {
+        for (size_t i = 0; i < 4 * nt; i++) start[t[i] + 1]++;
+        for (size_t v = 0; v < nv; v++) start[v + 1] += start[v];
         for (size_t v = 0; v < nv; v++) pos[v] = start[v];
         for (size_t k = 0; k < nt; k++)
             for (int j = 0; j < 4; j++) inc[pos[t[4 * k + j]]++] = (uint32_t)k;
-    }
-    /* pass 1: degrees; pass 2: the lists (scratch of 3 ids per incident tet) */
-    size_t cap = 0;
-    uint32_t *buf = NULL;
-    for (size_t v = 0; v < nv; v++)
-        if (3 * (start[v + 1] - start[v]) > cap) cap = 3 * (start[v + 1] - start[v]);
-    buf = malloc((cap ? cap : 1) * sizeof *buf);
-    if (!buf) nomem = 1;
-    for (int pass = 0; pass < 2 && !nomem; pass++) {
-        if (pass == 1) {
-            nbr = malloc((total ? total : 1) * sizeof *nbr);
-            if (!nbr) {
-                nomem = 1;
-                break;
-            }
-        }
-        size_t w = 0;
-        for (size_t v = 0; v < nv; v++) {
-            size_t c = 0;
+        for (size_t v = 0; v < nv; v++) mark[v] = UINT32_MAX;
+        for (size_t v = 0; v < nv && !nomem; v++) {
+            const size_t begin = total;
             for (size_t q = start[v]; q < start[v + 1]; q++) {
                 const uint32_t *tv = t + 4 * (size_t)inc[q];
-                for (int j = 0; j < 4; j++)
-                    if (tv[j] != v) buf[c++] = tv[j];
+                for (int j = 0; j < 4; j++) {
+                    const uint32_t u = tv[j];
+                    if (u == v || mark[u] == (uint32_t)v) continue;
+                    mark[u] = (uint32_t)v;
+                    if (total == cap) {
+                        uint32_t *grown = realloc(nbr, 2 * cap * sizeof *nbr);
+                        if (!grown) {
+                            nomem = 1;
+                            break;
+                        }
+                        nbr = grown;
+                        cap *= 2;
+                    }
+                    /* insertion into the sorted list of v's neighbours */
+                    size_t w = total++;
+                    while (w > begin && nbr[w - 1] > u) {
+                        nbr[w] = nbr[w - 1];
+                        w--;
+                    }
+                    nbr[w] = u;
+                }
             }
-            qsort(buf, c, sizeof *buf, cmp_u32);
-            size_t u = 0;
-            for (size_t q = 0; q < c; q++)
-                if (u == 0 || buf[q] != buf[u - 1]) buf[u++] = buf[q];
-            if (pass == 0) {
-                deg[v] = u;
-                total += u;
-            } else {
-                memcpy(nbr + w, buf, u * sizeof *buf);
-                w += u;
-            }
+            deg[v] = total - begin;
         }
     }
-    free(buf);
     Py_END_ALLOW_THREADS
     free(start);
+    free(pos);
     free(inc);
+    free(mark);
     if (nomem) {
         free(deg);
         free(nbr);
@@ -449,15 +433,14 @@ static PyObject *mesh_vertex_neighbor_vertices(MeshObject *m, PyObject *noargs)
     npy_intp *ix = PyArray_DATA((PyArrayObject *)indices);
     const uint32_t *map = gtet_mesh_input_map(m->mesh);
     Py_BEGIN_ALLOW_THREADS
-    size_t w = 0, o = 0;  /* write position in indices, read position in nbr */
-    size_t vdone = 0;  /* vertices emitted so far: vertex ids appear in first-occurrence order */
+    size_t w = 0;         /* lists are in vertex order, and vertex ids in first-occurrence
+                             order: input point i starts vertex map[i]'s list when it is new */
+    size_t vdone = 0;
     ip[0] = 0;
     for (size_t i = 0; i < n; i++) {
-        const uint32_t v = map[i];
-        if (v == vdone) {  /* first occurrence of vertex v: its list is next in nbr */
-            for (size_t q = 0; q < deg[v]; q++) ix[w + q] = input_id(m, nbr[o + q]);
-            w += deg[v];
-            o += deg[v];
+        if (map[i] == vdone) {
+            for (size_t q = 0; q < deg[vdone]; q++) ix[w + q] = input_id(m, nbr[w + q]);
+            w += deg[vdone];
             vdone++;
         }
         ip[i + 1] = (npy_intp)w;

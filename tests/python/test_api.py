@@ -1,0 +1,218 @@
+"""The interface: input conversion, dtypes and shapes, zero-copy views kept alive by the
+Delaunay object, duplicates, the GIL released, errors, stats, write() and to_meshio()."""
+import gc
+import os
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import gigatet
+
+
+def coord_set(points, tets):
+    """A mesh as the sorted list of its tets' sorted vertex coordinates."""
+    return sorted(tuple(sorted(map(tuple, points[t]))) for t in tets)
+
+
+def cube_points(n=2000, seed=5):
+    return np.random.default_rng(seed).random((n, 3))
+
+
+def test_any_float_dtype_and_layout():
+    p = cube_points(500)
+    ref = gigatet.Delaunay(p)
+    for q in (np.asfortranarray(p), p.astype(">f8"), np.repeat(p, 2, axis=0)[::2]):
+        d = gigatet.Delaunay(q)
+        assert np.array_equal(d.simplices, ref.simplices)
+        assert d.points.flags.c_contiguous and d.points.dtype == np.float64
+    # float32, float16, longdouble, ints, lists: converted once to float64
+    for q in (p.astype(np.float32), p.astype(np.longdouble), (p * 1000).astype(np.int64),
+              p.tolist()):
+        d = gigatet.Delaunay(q)
+        assert d.points.dtype == np.float64
+        assert np.array_equal(d.points, np.asarray(q, dtype=np.float64))
+        d.check()
+    # a float64 C-contiguous input is used as is (no copy), as scipy does
+    assert gigatet.Delaunay(p).points is p
+
+
+def test_bad_shapes_and_types():
+    with pytest.raises(ValueError):
+        gigatet.Delaunay(np.zeros((10, 2)))
+    with pytest.raises(ValueError):
+        gigatet.Delaunay(np.zeros(12))
+    with pytest.raises(ValueError):
+        gigatet.Delaunay(np.zeros((2, 4, 3)))
+    with pytest.raises(TypeError):
+        gigatet.Delaunay(np.zeros((10, 3), dtype=complex))
+    with pytest.raises(TypeError):
+        gigatet.Delaunay([["a", "b", "c"]] * 5)
+    with pytest.raises(ValueError):
+        gigatet.Delaunay(cube_points(10), threads=-1)
+    with pytest.raises(TypeError):
+        gigatet.Delaunay(cube_points(10), threads=1.5)
+
+
+def test_errors():
+    p = cube_points(100)
+    p[37, 1] = np.nan
+    with pytest.raises(ValueError, match="point 37 ") as e:
+        gigatet.Delaunay(p)
+    assert e.value.index == 37
+    with pytest.raises(gigatet.DegenerateInputError) as e:
+        gigatet.Delaunay(np.zeros((0, 3)))
+    assert e.value.dimension == -1
+    for dim, pts in ((0, [[1, 2, 3]] * 5), (1, [[i, 2 * i, 3] for i in range(6)]),
+                     (2, [[i, j, 7] for i in range(4) for j in range(3)])):
+        with pytest.raises(gigatet.DegenerateInputError, match="dimension %d" % dim) as e:
+            gigatet.Delaunay(pts)
+        assert e.value.dimension == dim
+        assert isinstance(e.value, ValueError)
+    assert issubclass(gigatet.DegenerateInputError, ValueError)
+    assert issubclass(gigatet.CheckError, RuntimeError)
+
+
+def test_views_are_zero_copy_and_keep_the_mesh_alive():
+    p = cube_points(3000)
+    d = gigatet.Delaunay(p)
+    v, t, nb, im = d.mesh_vertices, d.mesh_tets, d.mesh_neighbors, d.mesh_input_map
+    assert v.dtype == np.float64 and v.shape == (d.nvertices, 3)
+    assert t.dtype == np.uint32 and t.shape == (d.nsimplex, 4)
+    assert nb.dtype == np.uint32 and nb.shape == (d.nsimplex, 4)
+    assert im.dtype == np.uint32 and im.shape == (d.npoints,)
+    for a in (v, t, nb, im):
+        assert not a.flags.writeable and not a.flags.owndata
+        assert isinstance(a.base, gigatet._gigatet.Mesh)
+    assert np.array_equal(nb == d.NO_TET, d.neighbors == -1)
+    assert np.array_equal(np.where(nb == d.NO_TET, -1, nb.astype(np.intp)), d.neighbors)
+    assert np.array_equal(v, p)  # no duplicates: the vertices are the points
+    # the views outlive the Delaunay object
+    expect = t.copy()
+    del d
+    gc.collect()
+    junk = [np.ones(100000) for _ in range(20)]  # reuse freed memory if it was freed
+    assert np.array_equal(t, expect)
+    del junk
+    # results are cached and read-only
+    d = gigatet.Delaunay(p)
+    assert d.simplices is d.simplices
+    with pytest.raises(ValueError):
+        d.simplices[0, 0] = 1
+
+
+def test_duplicates_index_the_input_points():
+    base = cube_points(200)
+    p = np.concatenate([base, base[[5, 7, 5]], [[-0.0 + base[9, 0], base[9, 1], base[9, 2]]]])
+    p[0] = [0.0, 0.5, 0.5]
+    p = np.concatenate([p, [[-0.0, 0.5, 0.5]]])  # -0.0 == +0.0: a duplicate of point 0
+    d = gigatet.Delaunay(p)
+    n = len(p)
+    assert d.npoints == n and d.nvertices == 200
+    assert d.duplicates.tolist() == [[200, 5], [201, 7], [202, 5], [203, 9], [204, 0]]
+    assert d.coplanar[:, 0].tolist() == [200, 201, 202, 203, 204]
+    assert d.coplanar[:, 2].tolist() == [5, 7, 5, 9, 0]
+    for row in d.coplanar:
+        assert row[2] in d.simplices[row[1]]
+    assert d.simplices.max() < 200
+    assert np.array_equal(d.input_map[:200], np.arange(200))
+    assert d.input_map[200:].tolist() == [5, 7, 5, 9, 0]
+    assert (d.vertex_to_simplex[200:] == -1).all()
+    indptr, _ = d.vertex_neighbor_vertices
+    assert (np.diff(indptr)[200:] == 0).all()
+    assert d.stats["duplicates"] == 5
+    d.check()
+    # with duplicates before the first occurrence of others, ids still index the input
+    q = np.concatenate([base[:3], base[:3], base[3:]])
+    e = gigatet.Delaunay(q)
+    assert e.vertex_input_index.tolist()[:5] == [0, 1, 2, 6, 7]
+    assert set(np.unique(e.simplices)) <= set(range(len(q))) - {3, 4, 5}
+    assert coord_set(e.points, e.simplices) == coord_set(base, gigatet.Delaunay(base).simplices)
+
+
+def test_threads_and_determinism():
+    p = cube_points(20000)
+    a = gigatet.Delaunay(p, threads=1)
+    b = gigatet.Delaunay(p, threads=2)
+    c = gigatet.Delaunay(p)
+    assert a.stats["threads"] == 1 and b.stats["threads"] == 2
+    for x in (b, c):
+        assert np.array_equal(np.sort(np.sort(a.simplices, 1), 0), np.sort(np.sort(x.simplices, 1), 0))
+
+
+def test_check_and_stats():
+    d = gigatet.Delaunay(cube_points(300), check=True)
+    rep = d.check(full=True)
+    assert rep["ok"] and rep["mode"] == "canonical" and rep["euler"] == 1
+    assert rep["tets"] == d.nsimplex and rep["hull_facets"] == len(d.convex_hull)
+    s = d.stats
+    for key in ("points", "vertices", "duplicates", "tets", "hull_facets", "threads",
+                "tets_per_second", "seconds", "bytes_per_tet", "kernel_peak_bytes",
+                "tets_created", "walk_steps", "predicates", "num_rounds", "rounds"):
+        assert key in s
+    assert set(s["seconds"]) >= {"validate", "sort", "insert", "finalize", "kernel"}
+    assert s["tets"] == d.nsimplex and len(s["rounds"]) == s["num_rounds"]
+    assert s["predicates"]["orient_calls"] > 0 and len(s["predicates"]["sos_depth"]) == 4
+
+
+def test_write_every_format(tmp_path):
+    d = gigatet.Delaunay(cube_points(400))
+    for ext in (".ele", ".msh", ".vtu"):
+        path = tmp_path / ("mesh" + ext)
+        d.write(path)
+        assert path.stat().st_size > 0
+    assert (tmp_path / "mesh.node").exists()
+    with pytest.raises(ValueError):
+        d.write(tmp_path / "mesh.xyz")
+    with pytest.raises(OSError):
+        d.write(tmp_path / "no" / "such" / "dir.vtu")
+    meshio = pytest.importorskip("meshio")
+    for ext in (".ele", ".msh", ".vtu"):
+        m = meshio.read(str(tmp_path / ("mesh" + ext)))
+        tets = m.cells_dict["tetra"]
+        assert len(tets) == d.nsimplex
+        assert coord_set(m.points, tets) == coord_set(d.points, d.simplices)
+
+
+def test_to_meshio():
+    meshio = pytest.importorskip("meshio")
+    d = gigatet.Delaunay(cube_points(100))
+    m = d.to_meshio()
+    assert isinstance(m, meshio.Mesh)
+    assert np.array_equal(m.points, d.points)
+    assert np.array_equal(m.cells_dict["tetra"], d.simplices)
+
+
+def test_gil_released():
+    """Another Python thread runs while the kernel works."""
+    p = cube_points(400000, seed=1)
+    done = threading.Event()
+    result = {}
+
+    def work():
+        result["d"] = gigatet.Delaunay(p, threads=1)
+        done.set()
+
+    th = threading.Thread(target=work)
+    ticks = 0
+    th.start()
+    time.sleep(0.05)
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0.001)
+    th.join()
+    # with the GIL held for the whole run, this thread could not have looped
+    assert ticks > 50, ticks
+    assert result["d"].nsimplex > 0
+
+
+def test_orient3d_insphere_exact():
+    a, b, c, d = (0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)
+    assert gigatet.orient3d(a, b, c, d) == 1
+    assert gigatet.orient3d(a, c, b, d) == -1
+    assert gigatet.orient3d(a, b, c, (0.5, 0.5, 0)) == 0
+    assert gigatet.insphere(a, b, c, d, (1, 1, 1)) == 0
+    assert gigatet.insphere(a, b, c, d, (0.2, 0.2, 0.2)) == 1
+    tiny = 2.0 ** -1074
+    assert gigatet.orient3d((0, 0, 0), (tiny, 0, 0), (0, tiny, 0), (0, 0, tiny)) == 1
