@@ -12,25 +12,10 @@
 
 #include <math.h>
 #include <omp.h>
-#include <stdarg.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define DEDUP_AHEAD 16
-
-void kval_error(gtet_error *err, gtet_status status, size_t index, int dimension,
-                const char *fmt, ...)
-{
-    if (!err) return;
-    err->status = status;
-    err->index = index;
-    err->dimension = dimension;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err->message, sizeof err->message, fmt, ap);
-    va_end(ap);
-}
 
 /* The first non-finite coordinate (smallest index, whatever the thread count). */
 gtet_status kval_finite(const double *xyz, size_t n, int threads, gtet_error *err)
@@ -42,7 +27,7 @@ gtet_status kval_finite(const double *xyz, size_t n, int threads, gtet_error *er
     for (size_t i = 0; i < n3; i++)
         if (!isfinite(xyz[i]) && i < first) first = i;
     if (first == SIZE_MAX) return GTET_OK;
-    kval_error(err, GTET_ERR_NONFINITE, first / 3, -1, "point %zu has a %s %c coordinate",
+    base_error(err, GTET_ERR_NONFINITE, first / 3, -1, "point %zu has a %s %c coordinate",
                first / 3, isnan(xyz[first]) ? "NaN" : "infinite", "xyz"[first % 3]);
     return GTET_ERR_NONFINITE;
 }
@@ -81,7 +66,7 @@ static gtet_status dedup_serial(const double *xyz, size_t n, double **verts_out,
         free(table);
         free(map);
         free(verts);
-        kval_error(err, GTET_ERR_OUT_OF_MEMORY, SIZE_MAX, -1,
+        base_error(err, GTET_ERR_OUT_OF_MEMORY, SIZE_MAX, -1,
                    "out of memory checking %zu points for duplicates", n);
         return GTET_ERR_OUT_OF_MEMORY;
     }
@@ -182,7 +167,7 @@ gtet_status kval_dedup_partitioned(const double *xyz, size_t n, int T, double **
         free(dup);
         free(cnt);
         free(bstart);
-        kval_error(err, GTET_ERR_OUT_OF_MEMORY, SIZE_MAX, -1,
+        base_error(err, GTET_ERR_OUT_OF_MEMORY, SIZE_MAX, -1,
                    "out of memory checking %zu points for duplicates", n);
         return GTET_ERR_OUT_OF_MEMORY;
     }
@@ -310,7 +295,7 @@ gtet_status kval_first_simplex(const double *verts, const uint32_t *order, size_
     size_t i = 1;
     pos[0] = 0;
     if (nv == 0) {
-        kval_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, -1,
+        base_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, -1,
                    "no points: a tetrahedrization needs at least 4 distinct points");
         return GTET_ERR_DEGENERATE_INPUT;
     }
@@ -330,15 +315,15 @@ gtet_status kval_first_simplex(const double *verts, const uint32_t *order, size_
     pos[3] = i;
     return GTET_OK;
 dim0:
-    kval_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 0,
+    base_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 0,
                "degenerate input of dimension 0: all points are equal (1 distinct point)");
     return GTET_ERR_DEGENERATE_INPUT;
 dim1:
-    kval_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 1,
+    base_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 1,
                "degenerate input of dimension 1: all %zu distinct points are collinear", nv);
     return GTET_ERR_DEGENERATE_INPUT;
 dim2:
-    kval_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 2,
+    base_error(err, GTET_ERR_DEGENERATE_INPUT, SIZE_MAX, 2,
                "degenerate input of dimension 2: all %zu distinct points are coplanar", nv);
     return GTET_ERR_DEGENERATE_INPUT;
 }

@@ -6,12 +6,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "../gigatet.h"
+#include "../base/base.h"
 #include "../pred/pred.h"
-
-/* Fill err (if not NULL) with status, index, dimension and a printf-style message. */
-void kval_error(gtet_error *err, gtet_status status, size_t index, int dimension,
-                const char *fmt, ...) __attribute__((format(printf, 5, 6)));
 
 /* Reject NaN and infinite coordinates (GTET_ERR_NONFINITE naming the first bad index). */
 gtet_status kval_finite(const double *xyz, size_t n, int threads, gtet_error *err);

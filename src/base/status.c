@@ -1,7 +1,9 @@
-/* status.c -- status strings and option defaults of the public API. */
-#include "../gigatet.h"
+/* status.c -- status strings and error records of the public API (gigatet.h, base.h). */
+#include "base.h"
 
-#include <string.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
 
 const char *gtet_status_str(gtet_status status)
 {
@@ -19,13 +21,22 @@ const char *gtet_status_str(gtet_status status)
     return "unknown status";
 }
 
-void gtet_options_init(gtet_options *opts)
+void base_error(gtet_error *err, gtet_status status, size_t index, int dimension,
+                const char *fmt, ...)
 {
-    if (!opts) return;
-    memset(opts, 0, sizeof *opts);
-    opts->threads = 0;
-    opts->verbosity = 0;
-    opts->check = 0;
-    opts->degeneracies = 0;
-    opts->degeneracy_limit = 100000;
+    if (!err) return;
+    err->status = status;
+    err->index = index;
+    err->dimension = dimension;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->message, sizeof err->message, fmt, ap);
+    va_end(ap);
+}
+
+gtet_status base_fail(gtet_error *err, gtet_status s, const char *what)
+{
+    if (err && err->status != s)
+        base_error(err, s, SIZE_MAX, -1, "%s: %s", what, gtet_status_str(s));
+    return s;
 }

@@ -1,0 +1,36 @@
+/* base.h -- what every stage of the library may include (prefix base_): filling a gtet_error,
+ * and GTET_DEBUG_ASSERT.  It depends on gigatet.h only.
+ *
+ * GTET_DEBUG_ASSERT(cond) states an invariant the code relies on and that nothing else checks
+ * at run time (a neighbour's back link, ownership before a write, room after a claim).  In
+ * builds with GTET_DEBUG defined -- CMake defines it for GTET_SANITIZE, GTET_TSAN and the
+ * GTET_DEBUG option -- a false cond calls abort(): those builds exist to stop at the first
+ * broken invariant, and the sanitizers' runtime shows where.  The library still prints nothing.
+ * Elsewhere (Release) it compiles to nothing and cond is not evaluated; it must have no side
+ * effects.
+ */
+#ifndef GTET_BASE_H
+#define GTET_BASE_H
+
+#include <stddef.h>
+
+#include "../gigatet.h"
+
+#ifdef GTET_DEBUG
+#include <stdlib.h>
+#define GTET_DEBUG_ASSERT(cond) ((cond) ? (void)0 : abort())
+#define GTET_DEBUG_ON 1
+#else
+#define GTET_DEBUG_ASSERT(cond) ((void)sizeof((cond) ? 1 : 0))
+#define GTET_DEBUG_ON 0
+#endif
+
+/* Fill err (if not NULL) with status, index, dimension and a printf-style message. */
+void base_error(gtet_error *err, gtet_status status, size_t index, int dimension,
+                const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+
+/* Returns s; unless err is NULL or already holds s (a stage said more), fills err with
+ * "what: <gtet_status_str(s)>". */
+gtet_status base_fail(gtet_error *err, gtet_status s, const char *what);
+
+#endif
