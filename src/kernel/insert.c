@@ -24,6 +24,8 @@
  */
 #include "kmesh.h"
 
+#include "../base/base.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -454,27 +456,31 @@ static void rollback(kctx *c, size_t ncav)
     c->conflicts++;
 }
 
-gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
+/* km_insert's three steps.  Each is inlined into it (one function in the object code, as the
+ * hot loop was written); a parallel pass defers through *deferred, with nothing written. */
+#define KM_STEP static inline __attribute__((always_inline))
+
+/* locate: a tet in conflict with p (*t0), or *t0 = UINT32_MAX in a parallel pass when the
+ * walk met a tet not this thread's or ran out of steps. */
+KM_STEP gtet_status locate(kctx *c, const double *p, uint32_t *t0)
+{
+    gtet_status s = walk(c, p, t0, 1);
+    if (s != GTET_OK || *t0 == UINT32_MAX) return s;
+    if (conflicts(c, *t0, p)) return GTET_OK;
+    /* the located tet must conflict (see the top of this file) */
+    if (c->colour) return GTET_ERR_INTERNAL;
+    return scan_for_conflict(c, p, t0);
+}
+
+/* dig: the cavity, a breadth-first search over the tets in conflict with p from t0: the
+ * deleted tets in c->cav[0..*ncav) (marked dead), the boundary facets in c->bnd[0..*nb) as
+ * the new tets they become.  In a parallel pass every tet is checked to be this thread's
+ * before it is marked (O2); a tet that is not rolls the marks back and defers.  *foreign: a
+ * cavity tet has a vertex of another colour (own_min 3). */
+KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, size_t *ncav_out,
+                        size_t *nb_out, int *foreign_out, int *deferred)
 {
     kmesh *m = c->m;
-    const double *p = km_pt(m, pid);
-    uint32_t t0;
-    *deferred = 0;
-    gtet_status s = walk(c, p, &t0, 1);
-    if (s != GTET_OK) return s;
-    if (t0 == UINT32_MAX) {
-        c->conflicts++;
-        *deferred = 1;
-        return GTET_OK;
-    }
-    if (!conflicts(c, t0, p)) {
-        /* the located tet must conflict (see the top of this file) */
-        if (c->colour) return GTET_ERR_INTERNAL;
-        s = scan_for_conflict(c, p, &t0);
-        if (s != GTET_OK) return s;
-    }
-
-    /* cavity: breadth-first search over conflicting tets */
     size_t ncav = 0, nb = 0;
     if (grow((void **)&c->cav, &c->cav_cap, 64, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
     /* the walk only enters, and starts from, tets of this thread (parallel pass); checked
@@ -512,6 +518,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
                     rollback(c, ncav);
                     return GTET_ERR_OUT_OF_MEMORY;
                 }
+                GTET_DEBUG_ASSERT(!c->colour || km_owned(c, u));  /* a write: ours (O2) */
                 km_kill(m, u);
                 prefetch_neighbours(m, u);
                 c->cav[ncav++] = u;
@@ -540,13 +547,39 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
             }
         }
     }
+    *ncav_out = ncav;
+    *nb_out = nb;
+    *foreign_out = foreign;
+    return GTET_OK;
+}
 
-    /* slots: the cavity's own first, then the free list, then fresh ones */
+/* The back links of the new tets in slots[0..nb), and that they are this thread's (every new
+ * tet keeps at least the owned vertices of the deleted tet its facet came from, and p is of
+ * the thread's colour).  Debug builds only. */
+static void check_new_tets(const kctx *c, const uint32_t *slots, size_t nb)
+{
+    const uint32_t *tn = c->m->tn;
+    for (size_t i = 0; i < nb; i++) {
+        GTET_DEBUG_ASSERT(!c->colour || km_owned(c, slots[i]));
+        for (uint32_t f = 0; f < 4; f++) {
+            const uint32_t h = 4 * slots[i] + f;
+            GTET_DEBUG_ASSERT(tn[tn[h]] == h);
+        }
+    }
+}
+
+/* fill: the cavity's nb new tets in slots (the cavity's own first, then the free list, then
+ * fresh ones), glued to the outer facets and linked to each other; the next walk starts from
+ * a finite new tet when there is one.  Defers (parallel pass) when no slot is left. */
+KM_STEP gtet_status fill(kctx *c, size_t ncav, size_t nb, int foreign, int *deferred)
+{
+    kmesh *m = c->m;
     if (grow((void **)&c->freelist, &c->free_cap, c->nfree + ncav, sizeof *c->freelist)) {
         rollback(c, ncav);
         return GTET_ERR_OUT_OF_MEMORY;
     }
-    s = ensure_room(c, nb > ncav ? nb - ncav : 0);
+    const size_t need = nb > ncav ? nb - ncav : 0;
+    gtet_status s = ensure_room(c, need);
     if (s != GTET_OK) {
         rollback(c, ncav);
         if (c->colour && s == GTET_ERR_TOO_LARGE) {  /* no room left in this pass */
@@ -556,6 +589,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
         }
         return s;
     }
+    GTET_DEBUG_ASSERT(c->nfree + (c->colour ? c->blk_end - c->blk_next : m->cap - m->nt) >= need);
     if (grow((void **)&c->freelist, &c->free_cap, c->nfree + ncav, sizeof *c->freelist) ||
         grow((void **)&c->cav, &c->cav_cap, nb, sizeof *c->cav)) {
         rollback(c, ncav);
@@ -578,8 +612,8 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
         s = adjacency_hash(c, slots, nb);
         if (s != GTET_OK) return s;
     }
+    if (GTET_DEBUG_ON) check_new_tets(c, slots, nb);
     c->tets_created += nb;
-    /* start the next walk from a finite new tet when there is one */
     c->last = slots[0];
     for (size_t i = 0; i < nb; i++)
         if (m->tv[4 * (size_t)slots[i] + 3] != KM_GHOST) {
@@ -587,6 +621,25 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
             break;
         }
     return GTET_OK;
+}
+
+gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
+{
+    const double *p = km_pt(c->m, pid);
+    *deferred = 0;
+    uint32_t t0;
+    gtet_status s = locate(c, p, &t0);
+    if (s != GTET_OK) return s;
+    if (t0 == UINT32_MAX) {
+        c->conflicts++;
+        *deferred = 1;
+        return GTET_OK;
+    }
+    size_t ncav = 0, nb = 0;
+    int foreign = 0;
+    s = dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred);
+    if (s != GTET_OK || *deferred) return s;
+    return fill(c, ncav, nb, foreign, deferred);
 }
 
 gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t d)
@@ -641,6 +694,7 @@ gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t 
                 }
             }
         }
+    for (uint32_t h = 0; GTET_DEBUG_ON && h < 20; h++) GTET_DEBUG_ASSERT(m->tn[m->tn[h]] == h);
     c->last = 0;
     return GTET_OK;
 }
