@@ -48,7 +48,8 @@ typedef enum gtet_status {
     GTET_ERR_OUT_OF_MEMORY = 4,     /* an allocation failed; nothing leaked */
     GTET_ERR_TOO_LARGE = 5,         /* more points or tets than the index types hold */
     GTET_ERR_CHECK_FAILED = 6,      /* the exact checker found a violated invariant */
-    GTET_ERR_INTERNAL = 7           /* a broken internal invariant: please report it */
+    GTET_ERR_INTERNAL = 7,          /* a broken internal invariant: please report it */
+    GTET_ERR_CANCELLED = 8          /* gtet_options.cancel asked to stop; nothing leaked */
 } gtet_status;
 
 /* A static, never-NULL English description of a status. */
@@ -142,6 +143,11 @@ typedef struct gtet_options {
     int degeneracies;
     /* Records stored at most when recording (their total count stays exact); default 100000. */
     size_t degeneracy_limit;
+    /* When not NULL, polled on the calling thread between BRIO rounds (outside the parallel
+     * regions); a nonzero return stops the run: GTET_ERR_CANCELLED, no mesh.  (The Python
+     * module turns Ctrl-C into KeyboardInterrupt through it.) */
+    int (*cancel)(void *user);
+    void *cancel_user;
 } gtet_options;
 
 /* Fill *opts with the defaults above. */

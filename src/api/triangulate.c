@@ -153,6 +153,8 @@ static gtet_status build(run *r)
     in.degeneracy_limit = r->opts.degeneracy_limit;
     in.progress = r->opts.progress;
     in.progress_user = r->opts.progress_user;
+    in.cancel = r->opts.cancel;
+    in.cancel_user = r->opts.cancel_user;
     if (verbose(r, 2)) {
         in.round_done = say_round;
         in.round_user = r;

@@ -17,6 +17,7 @@ const char *gtet_status_str(gtet_status status)
     case GTET_ERR_TOO_LARGE: return "input too large for 32-bit vertex or tet indices";
     case GTET_ERR_CHECK_FAILED: return "the exact checker found a violated invariant";
     case GTET_ERR_INTERNAL: return "internal error (a broken invariant; please report it)";
+    case GTET_ERR_CANCELLED: return "cancelled by the caller (gtet_options.cancel)";
     }
     return "unknown status";
 }

@@ -91,7 +91,8 @@ int cli_exit_of_gtet(gtet_status s)
     case GTET_ERR_DEGENERATE_INPUT: return CLI_DEGENERATE;
     case GTET_ERR_OUT_OF_MEMORY: return CLI_NOMEM;
     case GTET_ERR_CHECK_FAILED:
-    case GTET_ERR_INTERNAL: return CLI_CHECK_FAILED;
+    case GTET_ERR_INTERNAL:
+    case GTET_ERR_CANCELLED: return CLI_CHECK_FAILED;  /* the CLI sets no cancel hook */
     }
     return CLI_CHECK_FAILED;
 }

@@ -192,6 +192,7 @@ static gtet_status kbuild_rounds(kbuild *b)
     b->P.done = 4;
     for (int k = 0; k < in->num_rounds; k++) {
         const size_t first = k ? b->round_end[k - 1] : 0;
+        if (in->cancel && in->cancel(in->cancel_user)) return GTET_ERR_CANCELLED;
         const double t0 = in->round_done ? omp_get_wtime() : 0.0;
         gtet_status s = kpar_round(&b->P, b->ids + first, b->round_end[k] - first,
                                    &b->res->rounds[k]);

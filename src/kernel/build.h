@@ -30,6 +30,9 @@ typedef struct kbuild_in {
     void (*round_done)(void *user, int round, int num_rounds, const gtet_round_stats *rs,
                        double seconds);
     void *round_user;
+    /* gtet_options.cancel: polled before each round; nonzero stops with GTET_ERR_CANCELLED */
+    int (*cancel)(void *user);
+    void *cancel_user;
 } kbuild_in;
 
 /* Insert the points of res (its vertices and n_points are set) in the order given, then
