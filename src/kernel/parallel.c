@@ -46,6 +46,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../base/base.h"
 #include "../sort/sort.h"
 
 #define KEY_BITS 21           /* per axis: 63-bit Moore keys */
@@ -268,16 +269,15 @@ void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, ui
     *bound0 = b0;
 }
 
-/* One parallel pass over pts[0..np) with `nth` threads; the mesh holds (or will hold, at the
- * end of this round) the vertices 0..nmesh-1.  Deferred points are moved to the front of pts
- * and counted in *left. */
-static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
-                                 unsigned pass, size_t *left, size_t *attempts, int *out_of_room)
+/* The keys, slices and colours of a pass (O1): thread k's slice is pts[begin[k] .. end[k]),
+ * and the vertices 0..nmesh-1 get the colours of the key ranges.  The keys: kpar.keys (the
+ * BRIO's, or the tight box's computed once) in a round's first pass and its first retry (cut
+ * half a slice further along the loop: kpar_slices); later passes re-key the vertices in the
+ * mesh on an enlarged, shifted box (paper section 4.2). */
+static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
+                           unsigned pass, size_t begin[], size_t end[])
 {
     kmesh *m = P->m;
-    /* keys: kpar.keys (the BRIO's, or the tight box's computed once) in a round's first pass
-     * and its first retry (cut half a slice further along the loop: kpar_slices); later passes
-     * re-key the vertices in the mesh on an enlarged, shifted box (paper section 4.2) */
     const uint64_t *keys;
     int sh = 0;  /* a vertex's 63-bit key: (keys[v] << sh) & KPAR_KEY_MASK (kpar.keys) */
     if (pass > 1) {
@@ -303,7 +303,6 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
         if (i > 0) unsorted |= ((keys[pts[i - 1]] << sh) & KPAR_KEY_MASK) > pk[i];
     }
     if (unsorted) sort_radix_pairs(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
-    size_t begin[256], end[256];
     uint64_t rel[256], bound0;
     kpar_slices(pk, pts, np, nth, pass == 1, P->tk, P->ti, begin, end, rel, &bound0);
     uint8_t *col = P->colour;
@@ -311,7 +310,57 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
     for (size_t v = 0; v < nmesh; v++) {
         col[v] = (uint8_t)kpar_colour_of((keys[v] << sh) & KPAR_KEY_MASK, rel, bound0, nth);
     }
+    for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */
+        for (size_t i = begin[k]; i < end[k]; i++) GTET_DEBUG_ASSERT(col[pts[i]] == k);
+}
 
+/* Record s as the pass's error unless one is there (O11). */
+static void pass_error(int *status, gtet_status s)
+{
+#pragma omp critical(gtet_status)
+    if (*status == GTET_OK) {
+#pragma omp atomic write
+        *status = (int)s;
+    }
+}
+
+/* Thread c's slice pts[b..e) of a pass, inside the parallel region: its deferred points are
+ * moved to pts[b..b+*nd) in order.  A thread whose insertions almost all fail stops trying
+ * (GIVE_UP); so does every thread once one has failed (the shared *status, read atomically). */
+static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_start,
+                         int *status, size_t *nd_out, size_t *tried_out)
+{
+    const size_t probe = (e - b) / GIVE_UP_PROBE > GIVE_UP_MIN ? (e - b) / GIVE_UP_PROBE
+                                                               : GIVE_UP_MIN;
+    size_t nd = 0, tried = 0;
+    int give_up = 0;
+    for (size_t i = b; i < e; i++) {
+        int deferred = 1;
+        gtet_status s = GTET_OK;
+        int failed;
+#pragma omp atomic read
+        failed = *status;
+        if (have_start && !failed && !c->out_of_room && !give_up) {
+            s = km_insert(c, pts[i], &deferred);
+            tried++;
+            give_up = tried >= probe && (tried - nd - deferred) * GIVE_UP_RATE < tried;
+        }
+        if (s != GTET_OK) pass_error(status, s);
+        if (deferred || s != GTET_OK) pts[b + nd++] = pts[i];
+    }
+    *nd_out = nd;
+    *tried_out = tried;
+}
+
+/* One parallel pass over pts[0..np) with `nth` threads; the mesh holds (or will hold, at the
+ * end of this round) the vertices 0..nmesh-1.  Deferred points are moved to the front of pts
+ * and counted in *left. */
+static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
+                                 unsigned pass, size_t *left, size_t *attempts, int *out_of_room)
+{
+    kmesh *m = P->m;
+    size_t begin[256], end[256];
+    pass_partition(P, pts, np, nmesh, nth, pass, begin, end);
     int status = GTET_OK;  /* the first error of any thread (a gtet_status) */
     size_t ndef[256], ntried[256];
     int room = 0;
@@ -319,48 +368,16 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
     {
         int tid = omp_get_thread_num();
         kctx *c = &P->ctx[tid];
-        c->colour = col;
+        c->colour = P->colour;
         c->mine = (uint8_t)tid;
         c->own_min = P->own3 ? 3 : 4;
         c->out_of_room = 0;
         int have_start = find_start(c, nth, pts + begin[tid], end[tid] - begin[tid]);
 #pragma omp barrier
-        size_t nd = 0;
-        /* a thread whose insertions almost all fail stops trying (GIVE_UP) */
-        const size_t probe = (end[tid] - begin[tid]) / GIVE_UP_PROBE > GIVE_UP_MIN
-                                 ? (end[tid] - begin[tid]) / GIVE_UP_PROBE : GIVE_UP_MIN;
-        size_t tried = 0;
-        int give_up = 0;
-        for (size_t i = begin[tid]; i < end[tid]; i++) {
-            int deferred = 1;
-            gtet_status s = GTET_OK;
-            int failed;
-#pragma omp atomic read
-            failed = status;
-            if (have_start && !failed && !c->out_of_room && !give_up) {
-                s = km_insert(c, pts[i], &deferred);
-                tried++;
-                give_up = tried >= probe && (tried - nd - deferred) * GIVE_UP_RATE < tried;
-            }
-            if (s != GTET_OK) {
-#pragma omp critical(gtet_status)
-                if (status == GTET_OK) {
-#pragma omp atomic write
-                    status = (int)s;
-                }
-            }
-            if (deferred || s != GTET_OK) pts[begin[tid] + nd++] = pts[i];
-        }
+        insert_slice(c, pts, begin[tid], end[tid], have_start, &status, &ndef[tid],
+                     &ntried[tid]);
         gtet_status fs = km_flush_block(c);
-        if (fs != GTET_OK) {
-#pragma omp critical(gtet_status)
-            if (status == GTET_OK) {
-#pragma omp atomic write
-                status = (int)fs;
-            }
-        }
-        ndef[tid] = nd;
-        ntried[tid] = tried;
+        if (fs != GTET_OK) pass_error(&status, fs);
         if (c->out_of_room) {
 #pragma omp atomic write
             room = 1;

@@ -145,135 +145,176 @@ static size_t dedup_slot(uint32_t tag, size_t size)
     return (size_t)(((uint64_t)tag * size) >> 32);  /* tag scaled to [0, size) */
 }
 
+/* The state the threads of kval_dedup_partitioned share. */
+typedef struct dedup_part {
+    const double *xyz;
+    size_t n;
+    int T, bits;
+    size_t nb;             /* buckets: 2^bits */
+    uint32_t *map;
+    double *verts;
+    uint8_t *dup;          /* per point: a later copy of an earlier point */
+    size_t *cnt;           /* per chunk and bucket: counts, then write positions */
+    size_t *bstart;        /* nb + 1 bucket starts */
+    uint64_t *ent;         /* step 1's entries (in verts) */
+    uint32_t *tab;         /* step 2's tables (in verts, after the entries) */
+    size_t lo[DEDUP_MAX_THREADS + 1], firsts[DEDUP_MAX_THREADS], base[DEDUP_MAX_THREADS];
+} dedup_part;
+
+/* Step 1 for chunk k, in the parallel region: count per bucket, prefix sum, scatter. */
+static void dedup_scatter(dedup_part *D, int k)
+{
+    const size_t a = D->lo[k], b = D->lo[k + 1], nb = D->nb;
+    const int bits = D->bits, shift = 64 - bits;
+    const double *xyz = D->xyz;
+    uint64_t *ent = D->ent;
+    size_t *c = D->cnt + (size_t)k * nb;
+    memset(c, 0, nb * sizeof *c);
+    memset(D->dup + a, 0, b - a);
+    for (size_t i = a; i < b; i++) {
+        const uint64_t h = point_hash(xyz + 3 * i);
+        c[bits ? h >> shift : 0]++;
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+        size_t off = 0;
+        for (size_t q = 0; q < nb; q++) {
+            D->bstart[q] = off;
+            for (int j = 0; j < D->T; j++) {
+                const size_t x = D->cnt[(size_t)j * nb + q];
+                D->cnt[(size_t)j * nb + q] = off;
+                off += x;
+            }
+        }
+        D->bstart[nb] = off;
+    }
+    for (size_t i = a; i < b; i++) {
+        const uint64_t h = point_hash(xyz + 3 * i);
+        ent[c[bits ? h >> shift : 0]++] = (h << 32) | (uint64_t)i;
+    }
+}
+
+/* Step 2 for bucket q: a bucket of m entries has the 2m table slots from 2 * bstart. */
+static void dedup_bucket(dedup_part *D, size_t q)
+{
+    const size_t s0 = D->bstart[q], m = D->bstart[q + 1] - s0, size = 2 * m;
+    const uint64_t *e = D->ent + s0;
+    const double *xyz = D->xyz;
+    uint8_t *dup = D->dup;
+    uint32_t *map = D->map;
+    uint32_t *t = D->tab + 2 * s0;
+    for (size_t j = 0; j < size; j++) t[j] = UINT32_MAX;
+    for (size_t j = 0; j < m; j++) {
+        const uint32_t tag = (uint32_t)(e[j] >> 32), i = (uint32_t)e[j];
+        const double *p = xyz + 3 * (size_t)i;
+        size_t h = dedup_slot(tag, size);
+        for (;;) {
+            const uint32_t v = t[h];
+            if (v == UINT32_MAX) {
+                t[h] = (uint32_t)j;
+                break;
+            }
+            if ((uint32_t)(e[v] >> 32) == tag) {
+                const uint32_t r = (uint32_t)e[v];
+                const double *q3 = xyz + 3 * (size_t)r;
+                if (q3[0] == p[0] && q3[1] == p[1] && q3[2] == p[2]) {
+                    dup[i] = 1;
+                    map[i] = r;
+                    break;
+                }
+            }
+            if (++h == size) h = 0;
+        }
+    }
+}
+
+/* Steps 3 and 4 for chunk k, in the parallel region, after every use of the scratch. */
+static void dedup_number(dedup_part *D, int k)
+{
+    const size_t a = D->lo[k], b = D->lo[k + 1];
+    const uint8_t *dup = D->dup;
+    uint32_t *map = D->map;
+    double *verts = D->verts;
+    const double *xyz = D->xyz;
+    size_t nf = 0;
+    for (size_t i = a; i < b; i++) nf += !dup[i];
+    D->firsts[k] = nf;
+#pragma omp barrier
+#pragma omp single
+    {
+        size_t sum = 0;
+        for (int j = 0; j < D->T; j++) {
+            D->base[j] = sum;
+            sum += D->firsts[j];
+        }
+    }
+    size_t vid = D->base[k];
+    for (size_t i = a; i < b; i++) {
+        if (dup[i]) continue;
+        memcpy(verts + 3 * vid, xyz + 3 * i, 3 * sizeof *verts);
+        map[i] = (uint32_t)vid++;
+    }
+#pragma omp barrier
+    for (size_t i = a; i < b; i++)
+        if (dup[i]) map[i] = map[map[i]];
+}
+
 gtet_status kval_dedup_partitioned(const double *xyz, size_t n, int T, double **verts_out,
                                    uint32_t **map_out, size_t *nv_out, gtet_error *err)
 {
     *verts_out = NULL;
     *map_out = NULL;
     *nv_out = 0;
-    if (T < 1) T = 1;
-    if (T > DEDUP_MAX_THREADS) T = DEDUP_MAX_THREADS;
-    int bits = 0;
-    while (bits < 20 && (n >> bits) > DEDUP_BUCKET) bits++;
-    const size_t nb = (size_t)1 << bits;
-    uint32_t *map = malloc((n ? n : 1) * sizeof *map);
-    double *verts = malloc((n ? 3 * n : 3) * sizeof *verts);
-    uint8_t *dup = malloc(n ? n : 1);
-    size_t *cnt = malloc((size_t)T * nb * sizeof *cnt);  /* per chunk and bucket */
-    size_t *bstart = malloc((nb + 1) * sizeof *bstart);
-    if (!map || !verts || !dup || !cnt || !bstart) {
-        free(map);
-        free(verts);
-        free(dup);
-        free(cnt);
-        free(bstart);
+    dedup_part D;
+    D.xyz = xyz;
+    D.n = n;
+    D.T = T < 1 ? 1 : T > DEDUP_MAX_THREADS ? DEDUP_MAX_THREADS : T;
+    T = D.T;
+    D.bits = 0;
+    while (D.bits < 20 && (n >> D.bits) > DEDUP_BUCKET) D.bits++;
+    D.nb = (size_t)1 << D.bits;
+    D.map = malloc((n ? n : 1) * sizeof *D.map);
+    D.verts = malloc((n ? 3 * n : 3) * sizeof *D.verts);
+    D.dup = malloc(n ? n : 1);
+    D.cnt = malloc((size_t)T * D.nb * sizeof *D.cnt);
+    D.bstart = malloc((D.nb + 1) * sizeof *D.bstart);
+    if (!D.map || !D.verts || !D.dup || !D.cnt || !D.bstart) {
+        free(D.map);
+        free(D.verts);
+        free(D.dup);
+        free(D.cnt);
+        free(D.bstart);
         base_error(err, GTET_ERR_OUT_OF_MEMORY, SIZE_MAX, -1,
                    "out of memory checking %zu points for duplicates", n);
         return GTET_ERR_OUT_OF_MEMORY;
     }
-    void *scratch = verts;  /* 24n bytes: entries (8n), then the tables (2 x 4n) */
-    uint64_t *ent = scratch;
-    uint32_t *tab = (uint32_t *)(ent + n);
-    size_t lo[DEDUP_MAX_THREADS + 1], firsts[DEDUP_MAX_THREADS], base[DEDUP_MAX_THREADS];
-    for (int k = 0; k <= T; k++) lo[k] = n / (size_t)T * (size_t)k;
-    lo[T] = n;
-    const int shift = 64 - bits;
+    D.ent = (uint64_t *)(void *)D.verts;  /* 24n bytes: entries (8n), then the tables (2 x 4n) */
+    D.tab = (uint32_t *)(D.ent + n);
+    for (int k = 0; k <= T; k++) D.lo[k] = n / (size_t)T * (size_t)k;
+    D.lo[T] = n;
 #pragma omp parallel num_threads(T) if (T > 1)
     {
         const int k = omp_get_thread_num();
-        const size_t a = lo[k], b = lo[k + 1];
-        size_t *c = cnt + (size_t)k * nb;
-        /* 1. */
-        memset(c, 0, nb * sizeof *c);
-        memset(dup + a, 0, b - a);
-        for (size_t i = a; i < b; i++) {
-            const uint64_t h = point_hash(xyz + 3 * i);
-            c[bits ? h >> shift : 0]++;
-        }
+        dedup_scatter(&D, k);
 #pragma omp barrier
-#pragma omp single
-        {
-            size_t off = 0;
-            for (size_t q = 0; q < nb; q++) {
-                bstart[q] = off;
-                for (int j = 0; j < T; j++) {
-                    const size_t x = cnt[(size_t)j * nb + q];
-                    cnt[(size_t)j * nb + q] = off;
-                    off += x;
-                }
-            }
-            bstart[nb] = off;
-        }
-        for (size_t i = a; i < b; i++) {
-            const uint64_t h = point_hash(xyz + 3 * i);
-            ent[c[bits ? h >> shift : 0]++] = (h << 32) | (uint64_t)i;
-        }
-#pragma omp barrier
-        /* 2. a bucket of m entries has the 2m table slots from 2 * bstart */
 #pragma omp for schedule(dynamic, 8)
-        for (size_t q = 0; q < nb; q++) {
-            const size_t s0 = bstart[q], m = bstart[q + 1] - s0, size = 2 * m;
-            const uint64_t *e = ent + s0;
-            uint32_t *t = tab + 2 * s0;
-            for (size_t j = 0; j < size; j++) t[j] = UINT32_MAX;
-            for (size_t j = 0; j < m; j++) {
-                const uint32_t tag = (uint32_t)(e[j] >> 32), i = (uint32_t)e[j];
-                const double *p = xyz + 3 * (size_t)i;
-                size_t h = dedup_slot(tag, size);
-                for (;;) {
-                    const uint32_t v = t[h];
-                    if (v == UINT32_MAX) {
-                        t[h] = (uint32_t)j;
-                        break;
-                    }
-                    if ((uint32_t)(e[v] >> 32) == tag) {
-                        const uint32_t r = (uint32_t)e[v];
-                        const double *q3 = xyz + 3 * (size_t)r;
-                        if (q3[0] == p[0] && q3[1] == p[1] && q3[2] == p[2]) {
-                            dup[i] = 1;
-                            map[i] = r;
-                            break;
-                        }
-                    }
-                    if (++h == size) h = 0;
-                }
-            }
-        }
-        /* 3. (the loop's implicit barrier ends every use of the scratch) */
-        size_t nf = 0;
-        for (size_t i = a; i < b; i++) nf += !dup[i];
-        firsts[k] = nf;
-#pragma omp barrier
-#pragma omp single
-        {
-            size_t sum = 0;
-            for (int j = 0; j < T; j++) {
-                base[j] = sum;
-                sum += firsts[j];
-            }
-        }
-        size_t vid = base[k];
-        for (size_t i = a; i < b; i++) {
-            if (dup[i]) continue;
-            memcpy(verts + 3 * vid, xyz + 3 * i, 3 * sizeof *verts);
-            map[i] = (uint32_t)vid++;
-        }
-#pragma omp barrier
-        /* 4. */
-        for (size_t i = a; i < b; i++)
-            if (dup[i]) map[i] = map[map[i]];
+        for (size_t q = 0; q < D.nb; q++) dedup_bucket(&D, q);
+        /* the loop's implicit barrier ends every use of the scratch */
+        dedup_number(&D, k);
     }
     size_t nv = 0;
-    for (int k = 0; k < T; k++) nv += firsts[k];
-    free(dup);
-    free(cnt);
-    free(bstart);
+    for (int k = 0; k < T; k++) nv += D.firsts[k];
+    free(D.dup);
+    free(D.cnt);
+    free(D.bstart);
+    double *verts = D.verts;
     if (nv < n) {
         double *shrunk = realloc(verts, (nv ? 3 * nv : 3) * sizeof *verts);
         if (shrunk) verts = shrunk;
     }
     *verts_out = verts;
-    *map_out = map;
+    *map_out = D.map;
     *nv_out = nv;
     return GTET_OK;
 }
