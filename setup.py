@@ -42,6 +42,16 @@ def include_dirs():
     return dirs
 
 
+def library_macros():
+    """GTET_HAVE_CANCEL when the public header has gtet_options.cancel (KeyboardInterrupt)."""
+    for d in ("include", "src"):
+        h = os.path.join(HERE, d, "gigatet.h")
+        if os.path.exists(h):
+            with open(h, encoding="utf-8") as f:
+                return [("GTET_HAVE_CANCEL", "1")] if "cancel_user" in f.read() else []
+    return []
+
+
 FP_FLAGS = ["-ffp-contract=off", "-fno-fast-math", "-fno-unsafe-math-optimizations",
             "-frounding-math"]
 WARN_FLAGS = ["-Wall", "-Wextra", "-Wshadow", "-Wstrict-prototypes", "-Wmissing-prototypes",
@@ -105,7 +115,7 @@ ext = Extension(
     sources=[os.path.join("python", "gigatet", "_gigatet.c")] + library_sources(),
     depends=sorted(glob.glob(os.path.join("src", "**", "*.h"), recursive=True)),
     include_dirs=include_dirs(),
-    define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
+    define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")] + library_macros(),
     # -O3 as CMake's Release build; -fno-wrapv undoes Python's -fwrapv (the kernel's loops
     # are written for C's rules); the library's warnings
     extra_compile_args=["-std=c17", "-O3", "-fno-wrapv", "-fopenmp"] + WARN_FLAGS,
