@@ -16,9 +16,8 @@
 # Runs are interleaved: for each repetition, every input, every tool -- so a slow phase of the
 # (shared) machine hits all tools alike -- and each repetition runs the tools in its own order
 # (a shuffle seeded by the repetition's number, printed in the log): a run is slowed by some
-# predecessors (2-thread gigatet on u4M: 3.63-3.79 s right after hxt2, 3.39-3.52 s after a
-# pause; NOTES.md 2026-11-24, third session), so a fixed order would tax the same tool every
-# time.  Seconds are each tool's own timing of the meshing
+# predecessors (a memory-heavy peer just before it), so a fixed order would tax the same tool
+# every time.  Seconds are each tool's own timing of the meshing
 # (file reading excluded), both wall and process CPU time (all threads): on this shared
 # machine the other agents' load inflates wall time, and CPU time is the fairer figure for a
 # one-thread run; TetGen reports only CPU time (clock()).  gigatet: its --stats total (else

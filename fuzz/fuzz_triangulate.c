@@ -17,56 +17,11 @@
  */
 #include "fuzz_common.h"
 
+#include "../tests/canon.h"
 #include "gigatet.h"
 #include "oracle/oracle.h"
 
 #define MAX_POINTS 300
-
-static int cmp_pt(const double *a, const double *b)
-{
-    for (int i = 0; i < 3; i++)
-        if (a[i] != b[i]) return a[i] < b[i] ? -1 : 1;
-    return 0;
-}
-
-typedef struct { double c[12]; } ctet;
-
-static int cmp_ctet(const void *x, const void *y)
-{
-    const ctet *a = x, *b = y;
-    for (int i = 0; i < 4; i++) {
-        int c = cmp_pt(a->c + 3 * i, b->c + 3 * i);
-        if (c) return c;
-    }
-    return 0;
-}
-
-/* Canonical form: tets as sorted coordinate 4-tuples (-0.0 written as +0.0), list sorted. */
-static ctet *canonical(const gtet_mesh *m, size_t *nt_out)
-{
-    size_t nt = gtet_mesh_num_tets(m);
-    const uint32_t *t = gtet_mesh_tets(m);
-    const double *v = gtet_mesh_vertices(m);
-    ctet *c = malloc((nt ? nt : 1) * sizeof *c);
-    FZ_ASSERT(c != NULL, "out of memory");
-    for (size_t i = 0; i < nt; i++) {
-        for (int k = 0; k < 4; k++)
-            for (int d = 0; d < 3; d++) {
-                double x = v[3 * (size_t)t[4 * i + k] + d];
-                c[i].c[3 * k + d] = x == 0 ? 0.0 : x;
-            }
-        for (int a = 1; a < 4; a++)
-            for (int b = a; b > 0 && cmp_pt(c[i].c + 3 * b, c[i].c + 3 * (b - 1)) < 0; b--)
-                for (int d = 0; d < 3; d++) {
-                    double tmp = c[i].c[3 * b + d];
-                    c[i].c[3 * b + d] = c[i].c[3 * (b - 1) + d];
-                    c[i].c[3 * (b - 1) + d] = tmp;
-                }
-    }
-    qsort(c, nt, sizeof *c, cmp_ctet);
-    *nt_out = nt;
-    return c;
-}
 
 /* Degenerate: no 4 distinct, affinely independent points (decided with the oracle). */
 static int is_degenerate(const double *p, size_t n)
@@ -74,7 +29,7 @@ static int is_degenerate(const double *p, size_t n)
     size_t ia = 0, ib = SIZE_MAX, ic = SIZE_MAX;
     if (n == 0) return 1;
     for (size_t i = 1; i < n && ib == SIZE_MAX; i++)
-        if (cmp_pt(p, p + 3 * i) != 0) ib = i;
+        if (canon_cmp_point(p, p + 3 * i) != 0) ib = i;
     if (ib == SIZE_MAX) return 1;
     for (size_t i = 1; i < n && ic == SIZE_MAX; i++)
         if (orc_coplanar_orientation(p + 3 * ia, p + 3 * ib, p + 3 * i) != 0) ic = i;
@@ -194,8 +149,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         gtet_mesh *m2 = run(p, n, 2, &st2);
         gtet_mesh *m3 = run(q, n, 1, &st3);
         FZ_ASSERT(st2 == GTET_OK && st3 == GTET_OK, "status %d / %d", (int)st2, (int)st3);
-        size_t n1, n2, n3;
-        ctet *c1 = canonical(m1, &n1), *c2 = canonical(m2, &n2), *c3 = canonical(m3, &n3);
+        size_t n1 = gtet_mesh_num_tets(m1), n2 = gtet_mesh_num_tets(m2);
+        size_t n3 = gtet_mesh_num_tets(m3);
+        canon_tet *c1 = canon_coords(m1), *c2 = canon_coords(m2), *c3 = canon_coords(m3);
+        FZ_ASSERT(c1 && c2 && c3, "out of memory");
         FZ_ASSERT(n1 == n2 && memcmp(c1, c2, n1 * sizeof *c1) == 0,
                   "threads=2 gives other tets (%zu vs %zu)", n1, n2);
         FZ_ASSERT(n1 == n3 && memcmp(c1, c3, n1 * sizeof *c1) == 0,

@@ -4,8 +4,7 @@
 # line says what is missing and nothing here is compiled.  The root project is C only, so C++
 # is enabled here.  Programs:
 #   cgal_dt  CGAL's Delaunay_triangulation_3 (Epick; TBB parallel mode when TBB is found)
-#   gtet_dt  gigatet through its public header, same canonical output; built only once the
-#            library defines gtet_triangulate (until the kernel lands it would not link)
+#   gtet_dt  gigatet through its public header, same canonical output (tests/canon.h)
 # Tests (label "cgal"; under GTET_SANITIZE they use the small point sets, label "sanitize"):
 #   cgal_reference_is_independent_of_order_and_threads    CGAL vs CGAL (validates the driver)
 #   gigatet_tets_equal_cgal_on_random_points              \
@@ -63,19 +62,6 @@ else()
 endif()
 gtet_cxx_fix_flags(cgal_dt)
 
-# Does the library define gtet_triangulate yet?  (A definition: the parameter list followed
-# by a brace, not a semicolon.)
-set(GTET_HAVE_KERNEL OFF)
-file(GLOB_RECURSE _gtet_srcs CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/*.c)
-foreach(f ${_gtet_srcs})
-  if(NOT f MATCHES "/src/cli/")
-    file(READ ${f} _txt)
-    if(_txt MATCHES "gtet_triangulate[ \t\r\n]*\\([^;{}]*\\)[ \t\r\n]*{")
-      set(GTET_HAVE_KERNEL ON)
-    endif()
-  endif()
-endforeach()
-
 if(GTET_SANITIZE)
   set(_small --small)
   set(_labels "cgal;sanitize")
@@ -96,28 +82,23 @@ endif()
 set_tests_properties(cgal_reference_is_independent_of_order_and_threads PROPERTIES
                      LABELS "${_labels}" TIMEOUT 900)
 
-if(GTET_HAVE_KERNEL)
-  add_executable(gtet_dt ${GTET_CGAL_DIR}/gtet_dt.c)
-  target_link_libraries(gtet_dt PRIVATE gigatet_static)
-  set(_fam_random "uniform_1k,uniform_10k,uniform_100k,uniform_with_duplicates")
-  set(_fam_degenerate "grid_10,grid_20_duplicates,cospherical_r2_2025,cospherical_r2_21125_centre,cube_corners,cube_corners_centre,fcc,bcc,paraboloid,plane_apex,plane_denormal_apex")
-  set(_fam_extreme "uniform_tiny_2m1000,uniform_huge_2p1000,grid_huge_2p1000,mixed_scales,signed_zeros_duplicates")
-  foreach(kind random degenerate extreme)
-    if(kind STREQUAL "random")
-      set(_name gigatet_tets_equal_cgal_on_random_points)
-    elseif(kind STREQUAL "degenerate")
-      set(_name gigatet_tets_equal_cgal_on_degenerate_sets)
-    else()
-      set(_name gigatet_tets_equal_cgal_on_extreme_scales_and_duplicates)
-    endif()
-    add_test(NAME ${_name} COMMAND ${_driver} --gtet $<TARGET_FILE:gtet_dt> --skip-cgal-self
-                                   --families ${_fam_${kind}})
-    set_tests_properties(${_name} PROPERTIES LABELS "${_labels}" TIMEOUT 900)
-  endforeach()
-else()
-  message(STATUS "gigatet: the library does not define gtet_triangulate yet; "
-                 "gtet_dt and the gigatet-vs-CGAL tests are not built")
-endif()
+add_executable(gtet_dt ${GTET_CGAL_DIR}/gtet_dt.c)
+target_link_libraries(gtet_dt PRIVATE gigatet_static)
+set(_fam_random "uniform_1k,uniform_10k,uniform_100k,uniform_with_duplicates")
+set(_fam_degenerate "grid_10,grid_20_duplicates,cospherical_r2_2025,cospherical_r2_21125_centre,cube_corners,cube_corners_centre,fcc,bcc,paraboloid,plane_apex,plane_denormal_apex")
+set(_fam_extreme "uniform_tiny_2m1000,uniform_huge_2p1000,grid_huge_2p1000,mixed_scales,signed_zeros_duplicates")
+foreach(kind random degenerate extreme)
+  if(kind STREQUAL "random")
+    set(_name gigatet_tets_equal_cgal_on_random_points)
+  elseif(kind STREQUAL "degenerate")
+    set(_name gigatet_tets_equal_cgal_on_degenerate_sets)
+  else()
+    set(_name gigatet_tets_equal_cgal_on_extreme_scales_and_duplicates)
+  endif()
+  add_test(NAME ${_name} COMMAND ${_driver} --gtet $<TARGET_FILE:gtet_dt> --skip-cgal-self
+                                 --families ${_fam_${kind}})
+  set_tests_properties(${_name} PROPERTIES LABELS "${_labels}" TIMEOUT 900)
+endforeach()
 
 # CGAL's meshes of a grid and a co-spherical set through `gigatet check` (canonical and
 # --delaunay) and `gigatet diff` (identical to gigatet's; TetGen's grid mesh: ties).

@@ -14,14 +14,18 @@
 #          points at 1-4 threads, every round split across threads) must run with zero
 #          reports, and tests/parallel_race_canary.c, a deliberately racy loop, must be
 #          flagged (ctest tsan_flags_a_deliberate_data_race): the job can fail.
+#   clang  clang-14 / clang++-14, -DGTET_WERROR=ON -DGTET_BENCH=ON, build-clang: configures and
+#          builds every target once (library, CLI, tests, the CGAL differential programs, the
+#          fuzz corpus replays, bench/sort_bench and the bench peers), runs nothing: gcc's
+#          build runs the tests, this job keeps the tree compiling under the second compiler.
 #   fuzz   clang-14, -DGTET_FUZZ=ON, build-fuzz: each fuzz/fuzz_* target replays its corpus
 #          (fuzz/corpus/<target>/, -runs=0) and then fuzzes for FUZZ_SECONDS (default 30) on a
 #          scratch copy of the corpus; a finding is saved as build-fuzz/findings/crash-* .
-# Select jobs with EXTRA_JOBS="asan tsan fuzz" (default: all three).
+# Select jobs with EXTRA_JOBS="asan tsan clang fuzz" (default: all four).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 jobs=$(nproc 2>/dev/null || echo 2)
-selected=${EXTRA_JOBS:-"asan tsan fuzz"}
+selected=${EXTRA_JOBS:-"asan tsan clang fuzz"}
 fuzz_seconds=${FUZZ_SECONDS:-30}
 failed=()
 
@@ -32,7 +36,7 @@ result() {  # result JOB STATUS [why]
 run() { say "+ $*" >&2; "$@"; }
 
 job_asan() {
-    # GTET_CGAL_TESTS=OFF: CGAL's headers under ASan take minutes to compile on this machine
+    # GTET_CGAL_TESTS=OFF: CGAL's headers under ASan take minutes to compile
     # and test CGAL's C++, not gigatet (the plain build runs them); only the test tree and
     # the CLI are built (bench/ is not needed here).
     run cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DGTET_SANITIZE=ON \
@@ -70,6 +74,13 @@ job_tsan() {
         say "tsan: the race canary did not run"; return 1; }
 }
 
+job_clang() {
+    run cmake -S . -B build-clang -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
+        -DCMAKE_BUILD_TYPE=Release -DGTET_WERROR=ON -DGTET_BENCH=ON >/dev/null || return 1
+    run cmake --build build-clang -j "$jobs" >build-clang/build.log 2>&1 ||
+        { tail -n 40 build-clang/build.log; return 1; }
+}
+
 job_fuzz() {
     run cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
         -DCMAKE_BUILD_TYPE=Release -DGTET_FUZZ=ON -DBUILD_TESTING=OFF -DGTET_CGAL_TESTS=OFF \
@@ -96,7 +107,7 @@ job_fuzz() {
 
 for j in $selected; do
     case $j in
-        asan|tsan|fuzz)
+        asan|tsan|clang|fuzz)
             say "=== $j ==="
             start=$SECONDS
             set +e; ( set -e; "job_$j" ); rc=$?; set -e

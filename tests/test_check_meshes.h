@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "canon.h"
 #include "gigatet.h"
 #include "oracle/oracle.h"
 
@@ -104,31 +105,17 @@ static inline tmesh tm_brute_delaunay(const double *v, size_t nv)
     return m;
 }
 
-static inline int tm_cmp_tet(const void *pa, const void *pb)
-{
-    return memcmp(pa, pb, 4 * sizeof(uint32_t));
-}
-
 /* Same set of tets (as vertex sets)? */
 static inline int tm_same_tets(const tmesh *a, const tmesh *b)
 {
     if (a->nt != b->nt) return 0;
     uint32_t *x = malloc(4 * a->nt * sizeof *x + 1), *y = malloc(4 * b->nt * sizeof *y + 1);
-    for (size_t k = 0; k < 2; k++) {
-        const tmesh *m = k ? b : a;
-        uint32_t *o = k ? y : x;
-        for (size_t i = 0; i < m->nt; i++) {
-            uint32_t *s = o + 4 * i;
-            memcpy(s, m->t + 4 * i, 4 * sizeof *s);
-            for (int p = 1; p < 4; p++)
-                for (int q = p; q > 0 && s[q - 1] > s[q]; q--) {
-                    uint32_t w = s[q];
-                    s[q] = s[q - 1];
-                    s[q - 1] = w;
-                }
-        }
-        qsort(o, m->nt, 4 * sizeof *o, tm_cmp_tet);
+    if (a->nt) {
+        memcpy(x, a->t, 4 * a->nt * sizeof *x);
+        memcpy(y, b->t, 4 * b->nt * sizeof *y);
     }
+    canon_sort_ids(x, a->nt);
+    canon_sort_ids(y, b->nt);
     int same = memcmp(x, y, 4 * a->nt * sizeof *x) == 0;
     free(x);
     free(y);

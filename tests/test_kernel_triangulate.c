@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "gigatet.h"
+#include "canon.h"
 #include "testutil.h"
 
 /* Sanitized builds (GTET_TEST_SMALL) divide the big sets by 8: same families, same checks. */
@@ -74,50 +75,6 @@ static void shuffle(double *p, size_t n, uint64_t seed)
     }
 }
 
-/* ---- canonical form: each tet as its 4 vertices' coordinates, sorted --------------------- */
-
-typedef struct { double c[12]; } ctet;
-
-static int cmp_pt(const double *a, const double *b)
-{
-    for (int i = 0; i < 3; i++)
-        if (a[i] != b[i]) return a[i] < b[i] ? -1 : 1;
-    return 0;
-}
-static int cmp_ctet(const void *a, const void *b)
-{
-    const ctet *x = a, *y = b;
-    for (int i = 0; i < 4; i++) {
-        int c = cmp_pt(x->c + 3 * i, y->c + 3 * i);
-        if (c) return c;
-    }
-    return 0;
-}
-
-static ctet *canonical(const gtet_mesh *m)
-{
-    size_t nt = gtet_mesh_num_tets(m);
-    const uint32_t *t = gtet_mesh_tets(m);
-    const double *v = gtet_mesh_vertices(m);
-    ctet *c = malloc((nt ? nt : 1) * sizeof *c);
-    for (size_t i = 0; i < nt; i++) {
-        for (int k = 0; k < 4; k++) {
-            const double *p = v + 3 * (size_t)t[4 * i + k];
-            for (int d = 0; d < 3; d++) c[i].c[3 * k + d] = p[d] == 0 ? 0.0 : p[d];
-        }
-        /* sort the 4 points inside the tet */
-        for (int a = 1; a < 4; a++)
-            for (int b = a; b > 0 && cmp_pt(c[i].c + 3 * b, c[i].c + 3 * (b - 1)) < 0; b--)
-                for (int d = 0; d < 3; d++) {
-                    double tmp = c[i].c[3 * b + d];
-                    c[i].c[3 * b + d] = c[i].c[3 * (b - 1) + d];
-                    c[i].c[3 * (b - 1) + d] = tmp;
-                }
-    }
-    qsort(c, nt, sizeof *c, cmp_ctet);
-    return c;
-}
-
 /* Triangulate, check exactly, and compare with a shuffled copy. */
 static void check_set(const char *name, double *p, size_t n, int threads)
 {
@@ -144,8 +101,9 @@ static void check_set(const char *name, double *p, size_t n, int threads)
     TEST_CHECK(nt == gtet_mesh_num_tets(m2), "%s: %zu tets, %zu when shuffled", name, nt,
                gtet_mesh_num_tets(m2));
     if (nt == gtet_mesh_num_tets(m2)) {
-        ctet *a = canonical(m), *b = canonical(m2);
-        TEST_CHECK(memcmp(a, b, nt * sizeof *a) == 0, "%s: shuffled input gives other tets", name);
+        canon_tet *a = canon_coords(m), *b = canon_coords(m2);
+        TEST_CHECK(a && b && memcmp(a, b, nt * sizeof *a) == 0,
+                   "%s: shuffled input gives other tets", name);
         free(a);
         free(b);
     }

@@ -4,10 +4,10 @@
  *
  * Specification: from a ghost, the walk must locate a tet in conflict with the point without
  * the linear-scan fallback (serial) and without an internal error (parallel pass, where there
- * is no fallback).  Until 2026-11-23 it moved to the ghost's finite neighbour and skipped the
- * hull facet as if it had crossed it, so a point beyond that facet was "located" in a tet
- * whose circumsphere does not contain it: "internal error" for cospherical / sphere / paraboloid
- * sets of 50k-200k points with -t 2..4, and a linear scan per such point with -t 1.
+ * is no fallback).  A walk that moved to the ghost's finite neighbour and skipped the hull
+ * facet as if it had crossed it would "locate" a point beyond that facet in a tet whose
+ * circumsphere does not contain it: an internal error with -t 2..4 and a linear scan per such
+ * point with -t 1, on cospherical, sphere and paraboloid sets of 50k-200k points.
  */
 #include <string.h>
 

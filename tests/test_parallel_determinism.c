@@ -8,7 +8,7 @@
  * input indices of its vertices (the smallest original index among the input points that map
  * to a vertex), sorts each tet's four indices and then the list, and requires identical
  * lists.  The 4-thread result passes the exact checker (gtet_check; every other run has the
- * same tets, and the checker costs 10-20 s per set on this machine), and the per-round statistics
+ * same tets, so one check covers them all), and the per-round statistics
  * (gtet_mesh_stats -> rounds[k].threads) must show that a round really ran on more than one
  * thread -- the kernel only splits a round with >= 2048 points per thread (src/kernel/
  * parallel.c), hence the sizes: 200k random points, a 30^3 integer grid (every insphere of a
@@ -22,6 +22,7 @@
 
 #include "gigatet.h"
 #include "io/io.h"
+#include "canon.h"
 #include "testutil.h"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
@@ -128,49 +129,6 @@ static double *cospherical(int m, size_t *n)
     return p;
 }
 
-/* ---- canonical tet lists ----------------------------------------------------------------- */
-
-static int cmp_u32x4(const void *a, const void *b)
-{
-    const uint32_t *x = a, *y = b;
-    for (int i = 0; i < 4; i++)
-        if (x[i] != y[i]) return x[i] < y[i] ? -1 : 1;
-    return 0;
-}
-
-/* The tets as sorted 4-tuples of original input indices (orig[i]: original index of input
- * position i), the list sorted.  NULL on allocation failure. */
-static uint32_t *canonical(const gtet_mesh *m, const uint32_t *orig, size_t n)
-{
-    size_t nv = gtet_mesh_num_vertices(m), nt = gtet_mesh_num_tets(m);
-    const uint32_t *map = gtet_mesh_input_map(m), *t = gtet_mesh_tets(m);
-    uint32_t *first = malloc((nv ? nv : 1) * sizeof *first);
-    uint32_t *c = malloc((nt ? 4 * nt : 1) * sizeof *c);
-    if (!first || !c) {
-        free(first);
-        free(c);
-        return NULL;
-    }
-    for (size_t v = 0; v < nv; v++) first[v] = UINT32_MAX;
-    for (size_t i = 0; i < n; i++) {
-        uint32_t o = orig ? orig[i] : (uint32_t)i;
-        if (o < first[map[i]]) first[map[i]] = o;
-    }
-    for (size_t i = 0; i < 4 * nt; i++) c[i] = first[t[i]];
-    for (size_t i = 0; i < nt; i++) {
-        uint32_t *q = c + 4 * i;
-        for (int a = 1; a < 4; a++)
-            for (int b = a; b > 0 && q[b] < q[b - 1]; b--) {
-                uint32_t tmp = q[b];
-                q[b] = q[b - 1];
-                q[b - 1] = tmp;
-            }
-    }
-    qsort(c, nt, 4 * sizeof *c, cmp_u32x4);
-    free(first);
-    return c;
-}
-
 /* Triangulate p with `threads`, check exactly, return the canonical list (and its length);
  * *max_threads = the most threads any round used. */
 static uint32_t *run(const char *name, const double *p, size_t n, const uint32_t *orig,
@@ -210,9 +168,10 @@ static uint32_t *run(const char *name, const double *p, size_t n, const uint32_t
         if (used > *max_threads) *max_threads = used;
     }
     *nt = gtet_mesh_num_tets(m);
-    uint32_t *c = canonical(m, orig, n);
+    char why[160];
+    uint32_t *c = canon_input_ids(m, orig, n, why);
     gtet_mesh_free(&m);
-    TEST_CHECK(c != NULL, "%s: out of memory", name);
+    TEST_CHECK(c != NULL, "%s: %s", name, why);
     return c;
 }
 
@@ -411,11 +370,10 @@ static gtet_mesh *with_two_threads(const double *p, size_t n, gtet_stats *st)
 }
 
 /* Points on the plane z = 0 and one apex above it: every tet has the apex, which has one
- * colour.  Ownership by all four vertices lets only the apex's thread insert: the first pass
- * of every round inserted half its points (alpha 0.497 with 2 threads) and the rest went
- * serial, so -t 2 was no faster than -t 1 (until 2026-11-24).  Now the run's first failed
- * pass switches to three-of-four ownership (kpar_round, km_owned), with which the other
- * threads insert too.  Specification: the same tets for every thread count and order; with
+ * colour.  Ownership by all four vertices lets only the apex's thread insert: a first pass
+ * inserts about half its points with 2 threads and the rest would go serial.  So the run's
+ * first failed pass switches to three-of-four ownership (kpar_round, km_owned), with which
+ * the other threads insert too.  Specification: the same tets for every thread count and order; with
  * 2 threads the last round's first pass inserts at least 3/4 of its points, and an earlier
  * round went on in parallel after its failed first pass (passes > 2 or alpha > 1/2). */
 static void test_a_vertex_in_every_tet_does_not_stop_the_other_threads(void)
@@ -476,9 +434,9 @@ static void test_a_dense_cluster_inside_one_cell_keeps_both_threads_inserting(vo
 }
 
 /* Points on a paraboloid (`gigatet generate paraboloid`): the cavities reach across the whole
- * set, no parallel insertion succeeds (alpha 0.001) and the round goes serial.  Before
- * 2026-11-24 every point was first walked and rolled back in a doomed parallel pass (1M
- * points: -t 2 12.6 s, -t 1 10.6 s).  Specification: the same tets for every thread count,
+ * set, no parallel insertion succeeds (alpha about 0.001) and the round goes serial; walking
+ * and rolling back every point in a doomed parallel pass first would make -t 2 slower than
+ * -t 1.  Specification: the same tets for every thread count,
  * and with 2 threads a round tries each point at most once plus what the probes of the first
  * pass cost (GIVE_UP in parallel.c: max(1024, slice / 16) per thread) -- except the one round
  * where the run switches to three-of-four ownership and tries a second parallel pass

@@ -376,8 +376,8 @@ static void test_lattice_filters_are_exact_within_the_proved_extents(void)
  * the whole tuple).  In-plane coordinates are random doubles, or small integers times 2^-20
  * (co-circular and collinear cases: exact zeros), so every sign and both zero cases occur.
  * Every position of the off-plane point and every axis.  The ghost rule and the coplanar
- * orientation on the in-plane points are checked too (orient2d / lifted2d on non-integer
- * doubles used to be GMP). */
+ * orientation on the in-plane points (orient2d / lifted2d on non-integer doubles) are checked
+ * too. */
 static void test_axis_aligned_planes_match_oracle(void)
 {
     reset();

@@ -1,6 +1,9 @@
 /* io.h -- file formats and point generators of gigatet (prefix io_), used by the CLI, the
  * tests and the fuzzers.  Not part of the public API (gigatet.h).
  *
+ * The formats, their extensions and what each can do are listed once, in io_formats below;
+ * this comment says what each reader accepts and what each writer writes.
+ *
  * Readers (by extension, case-insensitive):
  *   .xyz   text, "x y z" per line; '#' starts a comment; blank lines are ignored.
  *   .node  TetGen: header "n [dim [attrs [markers]]]" (dim must be 3), then

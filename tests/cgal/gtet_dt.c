@@ -23,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../canon.h"
 #include "gigatet.h"
 
 static int ends_with(const char *s, const char *suffix)
@@ -114,70 +115,21 @@ static int read_points(const char *path, double **xyz, size_t *n)
     return 1;
 }
 
-static int tet_cmp(const void *pa, const void *pb)
-{
-    const uint32_t *a = pa, *b = pb;
-    for (int k = 0; k < 4; k++)
-        if (a[k] != b[k]) return a[k] < b[k] ? -1 : 1;
-    return 0;
-}
-
-static void sort4(uint32_t *t)
-{
-    for (int i = 1; i < 4; i++)
-        for (int j = i; j > 0 && t[j - 1] > t[j]; j--) {
-            uint32_t x = t[j];
-            t[j] = t[j - 1];
-            t[j - 1] = x;
-        }
-}
-
 /* Writes the canonical list of mesh m built from n input points; returns 0 on failure. */
 static int print_canonical(const gtet_mesh *m, size_t n)
 {
     size_t nv = gtet_mesh_num_vertices(m), nt = gtet_mesh_num_tets(m);
-    const uint32_t *map = gtet_mesh_input_map(m);
-    const uint32_t *tets = gtet_mesh_tets(m);
-    uint32_t *first = malloc((nv ? nv : 1) * sizeof *first);
-    uint32_t *canon = malloc((nt ? 4 * nt : 1) * sizeof *canon);
-    if (!first || !canon) {
-        free(first);
-        free(canon);
-        fprintf(stderr, "gtet_dt: out of memory\n");
+    char why[160];
+    uint32_t *canon = canon_input_ids(m, NULL, n, why);
+    if (!canon) {
+        fprintf(stderr, "gtet_dt: %s\n", why);
         return 0;
     }
-    for (size_t v = 0; v < nv; v++) first[v] = UINT32_MAX;
-    for (size_t i = n; i-- > 0;) {  /* downwards: the last write is the smallest index */
-        if (map[i] >= nv) {
-            fprintf(stderr, "gtet_dt: input map sends point %zu to vertex %u of %zu\n", i,
-                    (unsigned)map[i], nv);
-            free(first);
-            free(canon);
-            return 0;
-        }
-        first[map[i]] = (uint32_t)i;
-    }
-    for (size_t t = 0; t < nt; t++) {
-        for (int k = 0; k < 4; k++) {
-            uint32_t v = tets[4 * t + (size_t)k];
-            if (v >= nv || first[v] == UINT32_MAX) {
-                fprintf(stderr, "gtet_dt: tet %zu has vertex %u, not an input point\n", t,
-                        (unsigned)v);
-                free(first);
-                free(canon);
-                return 0;
-            }
-            canon[4 * t + (size_t)k] = first[v];
-        }
-        sort4(canon + 4 * t);
-    }
-    qsort(canon, nt, 4 * sizeof *canon, tet_cmp);
     printf("# gtet-canonical points %zu vertices %zu duplicates %zu tets %zu\n", n, nv, n - nv,
            nt);
     for (size_t t = 0; t < nt; t++)
         printf("%u %u %u %u\n", (unsigned)canon[4 * t], (unsigned)canon[4 * t + 1],
                (unsigned)canon[4 * t + 2], (unsigned)canon[4 * t + 3]);
-    free(first);
     free(canon);
     return fflush(stdout) == 0;
 }
