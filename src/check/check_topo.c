@@ -336,25 +336,13 @@ static void u32_sort(uint32_t *a, size_t n)
     }
 }
 
-gtet_status chk_euler_links(chk_ctx *c)
+/* Distinct edges at each vertex (n_edges) and in all (returned): each edge filed under its
+ * smaller vertex, each vertex's bucket sorted.  start: nv + 1 zeros; other: 6 nt entries. */
+static int64_t count_edges(const chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t *other)
 {
     const uint32_t *T = c->tets;
-    size_t nv = c->nv, nt = c->nt;
-    gtet_status st = GTET_OK;
-    /* per vertex: edges, facets, tets at it; link components; hull flag */
-    int64_t *cnt = calloc(4 * nv, sizeof *cnt);
-    size_t *start = calloc(nv + 1, sizeof *start);
-    uint32_t *other = malloc(6 * nt * sizeof *other);
-    uint32_t *parent = malloc(4 * nt * sizeof *parent);
-    uint8_t *on_hull = calloc(nv, 1);
-    if (!cnt || !start || !other || !parent || !on_hull) {
-        st = chk_oom(c);
-        goto done;
-    }
-    c->stage = "links";
-    int64_t *n_edges = cnt, *n_facets = cnt + nv, *n_tets = cnt + 2 * nv, *n_comp = cnt + 3 * nv;
+    const size_t nv = c->nv, nt = c->nt;
     static const int ep[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-    /* distinct edges: filed under their smaller vertex, each bucket sorted */
     for (size_t t = 0; t < nt; t++)
         for (int k = 0; k < 6; k++) {
             uint32_t a = T[4 * t + ep[k][0]], b = T[4 * t + ep[k][1]];
@@ -370,7 +358,7 @@ gtet_status chk_euler_links(chk_ctx *c)
     start[0] = 0;
     /* buckets in parallel; the counts are sums of increments (atomic for the other end), so
      * they do not depend on the thread count */
-    int64_t E = 0, F = 0;
+    int64_t E = 0;
 #pragma omp parallel for reduction(+ : E) schedule(dynamic, 1024) if (nt > 8192)
     for (size_t v = 0; v < nv; v++) {
         u32_sort(other + start[v], start[v + 1] - start[v]);
@@ -385,7 +373,18 @@ gtet_status chk_euler_links(chk_ctx *c)
 #pragma omp atomic
         n_edges[v] += mine;
     }
-    /* facets (each once) and tets at each vertex; link union-find over the tet corners */
+    return E;
+}
+
+/* Facets (each once) and tets at each vertex, hull vertices, and the components of each
+ * vertex's link: a union-find over the tet corners (parent: 4 nt entries), two corners of one
+ * vertex joined across every interior facet.  Returns the number of facets. */
+static int64_t count_facets_and_links(const chk_ctx *c, int64_t *n_facets, int64_t *n_tets,
+                                      int64_t *n_comp, uint32_t *parent, uint8_t *on_hull)
+{
+    const uint32_t *T = c->tets;
+    const size_t nt = c->nt;
+    int64_t F = 0;
     for (size_t x = 0; x < 4 * nt; x++) parent[x] = (uint32_t)x;
     for (size_t t = 0; t < nt; t++)
         for (int f = 0; f < 4; f++) {
@@ -410,27 +409,58 @@ gtet_status chk_euler_links(chk_ctx *c)
         }
     for (size_t x = 0; x < 4 * nt; x++)
         if (chk_find(parent, (uint32_t)x) == x) n_comp[T[x]]++;
-    int64_t nused = 0;
-    for (size_t v = 0; v < nv; v++) {
+    return F;
+}
+
+/* Every vertex in a tet has a link of one piece with Euler characteristic 2 (a sphere, inside)
+ * or 1 (a disk, on the hull); *nused counts those vertices. */
+static gtet_status judge_links(chk_ctx *c, const int64_t *n_edges, const int64_t *n_facets,
+                               const int64_t *n_tets, const int64_t *n_comp,
+                               const uint8_t *on_hull, int64_t *nused)
+{
+    *nused = 0;
+    for (size_t v = 0; v < c->nv; v++) {
         if (c->unused && c->unused[v]) continue;  /* in no tet (a copy, chk_inputs) */
-        nused++;
+        (*nused)++;
         uint32_t id = (uint32_t)v;
         if (n_comp[v] != 1) {
             chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &id);
-            st = chk_fail(c, "the link of vertex %zu falls into %lld pieces: the tets around it "
-                          "do not form one ball", v, (long long)n_comp[v]);
-            goto done;
+            return chk_fail(c, "the link of vertex %zu falls into %lld pieces: the tets around "
+                            "it do not form one ball", v, (long long)n_comp[v]);
         }
         int64_t chi = n_edges[v] - n_facets[v] + n_tets[v];
         int64_t want = on_hull[v] ? 1 : 2;
         if (chi != want) {
             chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &id);
-            st = chk_fail(c, "the link of %s vertex %zu has Euler characteristic %lld, not %lld: "
-                          "it is not a %s", on_hull[v] ? "hull" : "interior", v, (long long)chi,
-                          (long long)want, on_hull[v] ? "disk" : "sphere");
-            goto done;
+            return chk_fail(c, "the link of %s vertex %zu has Euler characteristic %lld, not "
+                            "%lld: it is not a %s", on_hull[v] ? "hull" : "interior", v,
+                            (long long)chi, (long long)want, on_hull[v] ? "disk" : "sphere");
         }
     }
+    return GTET_OK;
+}
+
+gtet_status chk_euler_links(chk_ctx *c)
+{
+    size_t nv = c->nv, nt = c->nt;
+    gtet_status st = GTET_OK;
+    /* per vertex: edges, facets, tets at it; link components; hull flag */
+    int64_t *cnt = calloc(4 * nv, sizeof *cnt);
+    size_t *start = calloc(nv + 1, sizeof *start);
+    uint32_t *other = malloc(6 * nt * sizeof *other);
+    uint32_t *parent = malloc(4 * nt * sizeof *parent);
+    uint8_t *on_hull = calloc(nv, 1);
+    if (!cnt || !start || !other || !parent || !on_hull) {
+        st = chk_oom(c);
+        goto done;
+    }
+    c->stage = "links";
+    int64_t *n_edges = cnt, *n_facets = cnt + nv, *n_tets = cnt + 2 * nv, *n_comp = cnt + 3 * nv;
+    const int64_t E = count_edges(c, n_edges, start, other);
+    const int64_t F = count_facets_and_links(c, n_facets, n_tets, n_comp, parent, on_hull);
+    int64_t nused = 0;
+    st = judge_links(c, n_edges, n_facets, n_tets, n_comp, on_hull, &nused);
+    if (st != GTET_OK) goto done;
     int64_t euler = nused - E + F - (int64_t)nt;
     c->report->euler = (int)euler;
     c->stage = "euler";
