@@ -194,6 +194,42 @@ gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n,
                           threads, NULL, NULL, NULL, NULL);
 }
 
+/* Step 4 of sort_brio_keys: runs of equal keys into hash order, the long ones refined
+ * (keys[i..j) is scratch once the run is found, and gets the run's key back).  *refined: the
+ * points in refined runs; *crowd: the largest share of a round (of at least BRIO_CROWD_MIN
+ * points) that one key holds. */
+static void order_runs(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t *keys,
+                       uint64_t *tk, uint32_t *ti, int kbits, const size_t *end, uint64_t salt,
+                       int threads, size_t *refined_out, double *crowd_out)
+{
+    size_t refined = 0;
+    double crowd = 0.0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && keys[j] == keys[i])
+            j++;
+        const int r = (int)(keys[i] >> (3 * kbits));
+        const size_t rsize = end[r] - (r ? end[r - 1] : 0);
+        if (rsize >= BRIO_CROWD_MIN && (double)(j - i) / (double)rsize > crowd)
+            crowd = (double)(j - i) / (double)rsize;
+        if (j - i > 1) {
+            const uint64_t run_key = keys[i];
+            for (size_t u = i; u < j; u++)
+                tk[u] = sort_hash64((uint64_t)ids[u] + salt);
+            sort_radix_pairs(tk + i, ids + i, j - i, 64, keys + i, ti + i, threads);
+            if (j - i > BRIO_REFINE_MIN) {
+                refine_run(xyz, stride, ids + i, j - i, 1, keys + i, tk + i, ti + i, threads);
+                refined += j - i;
+            }
+            for (size_t u = i; u < j; u++)
+                keys[u] = run_key;
+        }
+        i = j;
+    }
+    *refined_out = refined;
+    *crowd_out = crowd;
+}
+
 gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size_t n,
                            uint64_t seed, size_t first, double ratio, size_t round_end[64],
                            int *num_rounds, int threads, uint64_t **keys_out, int *key_bits_out,
@@ -252,32 +288,10 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
                            threads);
     sort_radix_pairs(keys, ids, n, 3 * kbits + rbits, tk, ti, threads);
 
-    /* 4. runs of equal keys into hash order, the long ones refined (keys[i..j) is scratch
-     * once the run is found, and gets the run's key back) */
+    /* 4. */
     size_t refined = 0;
     double crowd = 0.0;
-    for (size_t i = 0; i < n;) {
-        size_t j = i + 1;
-        while (j < n && keys[j] == keys[i])
-            j++;
-        const int r = (int)(keys[i] >> (3 * kbits));
-        const size_t rsize = end[r] - (r ? end[r - 1] : 0);
-        if (rsize >= BRIO_CROWD_MIN && (double)(j - i) / (double)rsize > crowd)
-            crowd = (double)(j - i) / (double)rsize;
-        if (j - i > 1) {
-            const uint64_t run_key = keys[i];
-            for (size_t u = i; u < j; u++)
-                tk[u] = sort_hash64((uint64_t)ids[u] + salt);
-            sort_radix_pairs(tk + i, ids + i, j - i, 64, keys + i, ti + i, threads);
-            if (j - i > BRIO_REFINE_MIN) {
-                refine_run(xyz, stride, ids + i, j - i, 1, keys + i, tk + i, ti + i, threads);
-                refined += j - i;
-            }
-            for (size_t u = i; u < j; u++)
-                keys[u] = run_key;
-        }
-        i = j;
-    }
+    order_runs(xyz, stride, ids, n, keys, tk, ti, kbits, end, salt, threads, &refined, &crowd);
     if (refined_out)
         *refined_out = refined;
     if (crowd_out)
