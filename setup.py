@@ -14,6 +14,7 @@ Environment:
 """
 import glob
 import os
+import re
 import shlex
 import sys
 import sysconfig
@@ -28,10 +29,26 @@ BUILD_DIR = os.environ.get("GTET_PY_BUILD_DIR", os.path.join("build-py", "setupt
 
 
 def library_sources():
-    """src/*.c and src/<folder>/*.c except src/cli: a glob, since the library's layout moves."""
-    found = glob.glob(os.path.join("src", "*.c")) + glob.glob(os.path.join("src", "*", "*.c"))
-    keep = [p for p in found if p.split(os.sep)[1] != "cli"]
-    return sorted(keep)
+    """The library's sources as CMakeLists.txt globs them (GTET_LIB_SOURCES: the layout is
+    moving), plus the file formats of src/io/.  Without a readable list: every src/*.c and
+    src/<folder>/*.c except the CLI's and optional layers' folders."""
+    found = []
+    try:
+        with open(os.path.join(HERE, "CMakeLists.txt"), encoding="utf-8") as f:
+            m = re.search(r"file\(GLOB\s+GTET_LIB_SOURCES\s+(?:CONFIGURE_DEPENDS\s+)?([^)]*)\)",
+                          f.read())
+        for pattern in (m.group(1).split() if m else []):
+            if pattern.startswith("src/") and pattern.endswith(".c"):
+                found += glob.glob(pattern)
+    except OSError:
+        pass
+    if found:
+        found += glob.glob(os.path.join("src", "io", "*.c"))
+    else:
+        found = glob.glob(os.path.join("src", "*.c")) + \
+            [p for p in glob.glob(os.path.join("src", "*", "*.c"))
+             if p.split(os.sep)[1] not in ("cli", "mpi")]
+    return sorted(set(found))
 
 
 def include_dirs():

@@ -42,6 +42,7 @@ typedef struct {
                                there are no duplicates (then the identity) */
     double seconds;         /* wall time of gtet_triangulate */
     int threads_asked;
+    int threads;            /* threads the kernel used: the array conversions use as many */
 } MeshObject;
 
 static PyTypeObject MeshType;
@@ -206,6 +207,9 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw)
     m->first = NULL;
     m->seconds = t1 - t0;
     m->threads_asked = threads;
+    gtet_stats st;
+    gtet_mesh_stats(mesh, &st);
+    m->threads = st.threads > 0 ? st.threads : 1;
     if ((size_t)m->nv != n) {
         m->first = first_occurrence(mesh, n, (size_t)m->nv);
         if (!m->first) {
@@ -280,11 +284,14 @@ static PyObject *mesh_simplices(MeshObject *m, PyObject *noargs)
     npy_intp *out = PyArray_DATA((PyArrayObject *)a);
     const uint32_t *t = gtet_mesh_tets(m->mesh);
     const size_t n4 = 4 * (size_t)m->nt;
+    const int nth = m->threads;
+    const npy_intp *first = m->first;
     Py_BEGIN_ALLOW_THREADS
-    if (m->first) {
-        const npy_intp *first = m->first;
+    if (first) {
+#pragma omp parallel for num_threads(nth) schedule(static) if (nth > 1 && n4 > 262144)
         for (size_t i = 0; i < n4; i++) out[i] = first[t[i]];
     } else {
+#pragma omp parallel for num_threads(nth) schedule(static) if (nth > 1 && n4 > 262144)
         for (size_t i = 0; i < n4; i++) out[i] = (npy_intp)t[i];
     }
     Py_END_ALLOW_THREADS
@@ -301,7 +308,9 @@ static PyObject *mesh_neighbors(MeshObject *m, PyObject *noargs)
     npy_intp *out = PyArray_DATA((PyArrayObject *)a);
     const uint32_t *nb = gtet_mesh_neighbors(m->mesh);
     const size_t n4 = 4 * (size_t)m->nt;
+    const int nth = m->threads;
     Py_BEGIN_ALLOW_THREADS
+#pragma omp parallel for num_threads(nth) schedule(static) if (nth > 1 && n4 > 262144)
     for (size_t i = 0; i < n4; i++) out[i] = nb[i] == GTET_NO_TET ? -1 : (npy_intp)nb[i];
     Py_END_ALLOW_THREADS
     return a;
