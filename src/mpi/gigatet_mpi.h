@@ -1,0 +1,113 @@
+/* gigatet_mpi.h -- gigatet's distributed mode over MPI (prefix gtet_*_mpi).
+ *
+ * gtet_triangulate_mpi builds, over the ranks of an MPI communicator, exactly the mesh that
+ * gtet_triangulate builds in one process from the concatenation of every rank's points: the
+ * same global vertex ids (distinct points in order of first occurrence in the global input
+ * order), the same input map, the same tets (tet for tet), whatever the number of ranks.
+ * Each tet of that mesh is owned by exactly one rank, which returns it.  The algorithm (a
+ * sample-based kd partition into tiles, local triangulations of tile + ghost points, an
+ * exact conflict exchange until no rank receives a new point, ownership by the smallest
+ * vertex id) and its proof are in proofs/distributed.md.
+ *
+ * Collective: every rank of comm calls it, with its own points (any number, 0 included).
+ * Errors are agreed on: every rank returns the same status and the same gtet_error (a NaN
+ * on one rank is GTET_ERR_NONFINITE on all of them, with the smallest global index); a
+ * failed call returns nothing and leaks nothing.  The library never prints or exits.
+ *
+ * Include this header (it includes mpi.h and gigatet.h) and link libgigatet_mpi,
+ * libgigatet and MPI's C library.
+ */
+#ifndef GIGATET_MPI_H
+#define GIGATET_MPI_H
+
+#include <mpi.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "gigatet.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* first_index: the global input index of this rank's first point (its points are
+ * first_index, first_index + 1, ...).  The ranks' ranges must be disjoint and cover
+ * [0, total points).  GTET_MPI_AUTO_INDEX on every rank: the points are numbered rank by
+ * rank (an exclusive prefix sum of the counts). */
+#define GTET_MPI_AUTO_INDEX UINT64_MAX
+/* A global tet id or vertex id that does not exist (a hull facet's neighbour). */
+#define GTET_MPI_NO_TET UINT64_MAX
+
+typedef struct gtet_mpi_stats {
+    int ranks;                  /* size of the communicator */
+    int rounds;                 /* local triangulations this run needed (the same on every
+                                   rank): 1 when the seeded ghost layer was already enough */
+    uint64_t tile_points;       /* distinct points of this rank's tile */
+    uint64_t ghost_points;      /* other tiles' points this rank triangulated with its own */
+    uint64_t ghost_seeded;      /* ... of which it received in the seeding step */
+    uint64_t queries_sent;      /* conflict queries (circumballs, hull halfspaces) it sent */
+    uint64_t bytes_sent;        /* bytes it sent to other ranks, all steps (MPI payload) */
+    uint64_t bytes_sent_ghost;  /* ... of which for ghost points and queries */
+    double seconds_validate;    /* NaN scan, duplicates, global vertex ids, dimension */
+    double seconds_partition;   /* kd tiles from a sample, points to their tiles */
+    double seconds_triangulate; /* local gtet_triangulate calls, summed over rounds */
+    double seconds_exchange;    /* ghost seeding, queries and their answers */
+    double seconds_output;      /* ownership, global tet ids, neighbours */
+    double seconds_total;
+} gtet_mpi_stats;
+
+typedef struct gtet_mpi_result {
+    /* global figures (equal on every rank) */
+    uint64_t num_points_global;   /* input points over all ranks */
+    uint64_t num_vertices;        /* distinct points: global vertex ids are 0..num_vertices-1 */
+    uint64_t num_duplicates;
+    uint64_t num_tets_global;     /* tets of the global mesh */
+    uint64_t num_hull_facets;     /* its hull facets */
+    /* this rank's input points: the global vertex id of each (duplicates: their first) */
+    size_t num_points;
+    uint64_t *input_map;
+    /* the tets this rank owns, global ids tet_offset .. tet_offset + num_tets - 1; the
+       global tets are numbered rank by rank: rank r owns [tet_offsets[r], tet_offsets[r+1]) */
+    size_t num_tets;
+    uint64_t *tets;               /* 4 global vertex ids per tet, positively oriented */
+    uint64_t *neighbors;          /* global tet id across the facet opposite vertex i, on any
+                                     rank, or GTET_MPI_NO_TET on the hull */
+    uint64_t tet_offset;
+    uint64_t *tet_offsets;        /* ranks + 1 entries */
+    /* the distinct points of this rank's tile (every global vertex is in exactly one tile) */
+    size_t num_tile_vertices;
+    uint64_t *tile_vertex_ids;
+    double *tile_vertices;        /* 3 per vertex: the coordinates of its first occurrence */
+    /* the vertices the owned tets use (tile and ghost points), sorted by global id */
+    size_t num_used_vertices;
+    uint64_t *used_vertex_ids;
+    double *used_vertices;
+    gtet_mpi_stats stats;
+} gtet_mpi_result;
+
+/* Collective.  opts as for gtet_triangulate (threads per rank; opts->error filled on
+ * failure with the agreed error; check: each rank runs the exact checker on its local
+ * triangulation and the ranks check their shared facets, see gtet_check_mpi).  On success
+ * *result is filled (free it with gtet_mpi_result_free); on failure it is zeroed. */
+gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
+                                 uint64_t first_index, const gtet_options *opts,
+                                 gtet_mpi_result *result);
+
+void gtet_mpi_result_free(gtet_mpi_result *result);   /* NULL-safe; zeroes it */
+
+/* Collective: the cross-rank part of the checker on a result.  Every owned tet positively
+ * oriented (exact), every neighbour link symmetric (the tet across names this one back,
+ * wherever it lives) with the two tets sharing the facet's three vertices and lying on
+ * opposite sides of it, every interior facet locally Delaunay in the perturbed sense
+ * (gtet_insphere_sos with the apex across, fetched from its rank), every global vertex used
+ * by some tet.  (With opts.check, gtet_triangulate_mpi adds the full exact checker,
+ * gtet_check, on each rank's local triangulation.)  GTET_OK or GTET_ERR_CHECK_FAILED on
+ * every rank, report->message saying the first failure; report->tets counts the global
+ * tets, report->hull_facets the hull facets, report->facets_checked the interior links. */
+gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *result,
+                           gtet_check_report *report);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* GIGATET_MPI_H */

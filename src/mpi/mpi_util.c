@@ -1,0 +1,139 @@
+/* mpi_util.c -- error agreement, all-to-all exchanges and the allocation hook of the
+ * distributed mode.  Every collective error path goes through mx_agree, so a failure on one
+ * rank makes every rank leave the same step with the same status: no rank waits in a
+ * collective another rank never enters. */
+#define _POSIX_C_SOURCE 200809L
+#include <limits.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "mpi/mpi_internal.h"
+
+static long fail_countdown = -1;
+
+void gtet_mpi_debug_fail_alloc(long after) { fail_countdown = after; }
+
+static int injected(void)
+{
+    if (fail_countdown < 0) return 0;
+    if (fail_countdown == 0) {
+        fail_countdown = -1;
+        return 1;
+    }
+    fail_countdown--;
+    return 0;
+}
+
+void *mx_malloc(size_t bytes)
+{
+    if (injected()) return NULL;
+    return malloc(bytes ? bytes : 1);
+}
+
+void *mx_calloc(size_t count, size_t size)
+{
+    if (injected()) return NULL;
+    if (count == 0 || size == 0) return calloc(1, 1);
+    return calloc(count, size);
+}
+
+void *mx_realloc(void *p, size_t bytes)
+{
+    if (injected()) return NULL;
+    return realloc(p, bytes ? bytes : 1);
+}
+
+double mx_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+gtet_status mx_fail(mctx *c, gtet_status status, const char *fmt, ...)
+{
+    if (c->err.status != GTET_OK) return c->err.status;
+    c->err.status = status;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(c->err.message, sizeof c->err.message, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+gtet_status mx_agree(mctx *c, gtet_status mine)
+{
+    if (mine != GTET_OK && c->err.status == GTET_OK) {
+        c->err.status = mine;
+        snprintf(c->err.message, sizeof c->err.message, "rank %d: %s", c->rank,
+                 gtet_status_str(mine));
+    }
+    int me = mine != GTET_OK ? c->rank : c->size, low = c->size;
+    MPI_Allreduce(&me, &low, 1, MPI_INT, MPI_MIN, c->comm);
+    if (low == c->size) return GTET_OK;
+    /* gtet_error is plain data: the lowest failing rank's copy goes to everyone */
+    MPI_Bcast(&c->err, (int)sizeof c->err, MPI_BYTE, low, c->comm);
+    return c->err.status;
+}
+
+gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
+                        void **rbuf, size_t *rcnt, size_t *rtot, int ghost)
+{
+    *rbuf = NULL;
+    *rtot = 0;
+    int P = c->size;
+    gtet_status s = GTET_OK;
+    size_t tot = 0;
+    for (int q = 0; q < P; q++) {
+        if (scnt[q] > (size_t)INT_MAX || tot > (size_t)INT_MAX - scnt[q]) {
+            s = mx_fail(c, GTET_ERR_TOO_LARGE,
+                        "rank %d would send more than 2^31-1 records of %zu bytes in one exchange",
+                        c->rank, rsize);
+            break;
+        }
+        c->sc[q] = (int)scnt[q];
+        c->sd[q] = (int)tot;
+        tot += scnt[q];
+    }
+    if ((s = mx_agree(c, s)) != GTET_OK) return s;
+    MPI_Alltoall(c->sc, 1, MPI_INT, c->rc, 1, MPI_INT, c->comm);
+    size_t rt = 0;
+    for (int q = 0; q < P; q++) {
+        rcnt[q] = (size_t)c->rc[q];
+        if (rt > (size_t)INT_MAX - rcnt[q]) {
+            s = mx_fail(c, GTET_ERR_TOO_LARGE,
+                        "rank %d would receive more than 2^31-1 records in one exchange", c->rank);
+            break;
+        }
+        c->rd[q] = (int)rt;
+        rt += rcnt[q];
+    }
+    void *buf = NULL;
+    if (s == GTET_OK) {
+        buf = mx_malloc(rt * rsize);
+        if (!buf)
+            s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY,
+                        "rank %d: out of memory receiving %zu records", c->rank, rt);
+    }
+    if ((s = mx_agree(c, s)) != GTET_OK) {
+        free(buf);
+        return s;
+    }
+    MPI_Datatype t;
+    MPI_Type_contiguous((int)rsize, MPI_BYTE, &t);
+    MPI_Type_commit(&t);
+    static const char dummy[1];
+    MPI_Alltoallv(sbuf ? sbuf : dummy, c->sc, c->sd, t, buf, c->rc, c->rd, t, c->comm);
+    MPI_Type_free(&t);
+    uint64_t bytes = 0;
+    for (int q = 0; q < P; q++)
+        if (q != c->rank) bytes += (uint64_t)scnt[q] * rsize;
+    c->st->bytes_sent += bytes;
+    if (ghost) c->st->bytes_sent_ghost += bytes;
+    *rbuf = buf;
+    *rtot = rt;
+    return GTET_OK;
+}
