@@ -10,4 +10,7 @@ if(NOT GTET_SANITIZE AND NOT GTET_TSAN AND EXISTS /usr/bin/python3)
            COMMAND ${GTET_BASH} ${CMAKE_CURRENT_SOURCE_DIR}/python/run_tests.sh
                    ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR})
   set_tests_properties(python_module PROPERTIES TIMEOUT 600 SKIP_RETURN_CODE 77 LABELS python)
+  if(TARGET cgal_dt)  # tests/python/test_cgal.py: gigatet's simplices equal CGAL's on grids
+    set_tests_properties(python_module PROPERTIES ENVIRONMENT "GTET_CGAL_DT=$<TARGET_FILE:cgal_dt>")
+  endif()
 endif()
