@@ -60,56 +60,54 @@ static int starts(const char *s, const char *prefix)
     return strncmp(s, prefix, strlen(prefix)) == 0;
 }
 
-static void test_verbosity_one_gives_one_line_per_phase(void)
+/* Verbosity 1: validate, sort, insert, finalize. */
+static void check_phase_lines(const lines *l, int threads)
+{
+    TEST_CHECK(l->n == 4, "%d threads: %d lines, expected 4", threads, l->n);
+    const char *phase[4] = {"validate: ", "sort: ", "insert: ", "finalize: "};
+    for (int i = 0; i < 4 && i < l->n; i++)
+        TEST_CHECK(starts(l->text[i], phase[i]), "line %d is '%s', expected '%s...'", i,
+                   l->text[i], phase[i]);
+    TEST_CHECK(l->n < 1 || strstr(l->text[0], "30000 points"), "validate line: '%s'", l->text[0]);
+}
+
+/* Verbosity 2 with the check: the phases, one line per round between sort and insert, and the
+ * check's line last. */
+static void check_round_lines(const lines *l, int threads, int num_rounds)
+{
+    TEST_CHECK(num_rounds > 1, "only %d rounds", num_rounds);
+    TEST_CHECK(l->n == 5 + num_rounds, "%d threads: %d lines for %d rounds", threads, l->n,
+               num_rounds);
+    int rounds = 0;
+    for (int i = 0; i < l->n && i < MAXLINES; i++) {
+        if (!starts(l->text[i], "round ")) continue;
+        int k = 0, of = 0;
+        TEST_CHECK(sscanf(l->text[i], "round %d/%d:", &k, &of) == 2 && k == rounds + 1 &&
+                       of == num_rounds,
+                   "line '%s' (round %d of %d expected)", l->text[i], rounds + 1, num_rounds);
+        rounds++;
+    }
+    TEST_CHECK(rounds == num_rounds, "%d round lines for %d rounds", rounds, num_rounds);
+    TEST_CHECK(l->n >= 5 && starts(l->text[1], "sort: ") &&
+                   starts(l->text[l->n - 3], "insert: ") && starts(l->text[l->n - 1], "check: ok"),
+               "order of the lines: '%s' ... '%s'", l->text[1], l->text[l->n - 1]);
+}
+
+static void test_one_line_per_phase_and_per_round_from_the_calling_thread(void)
 {
     const size_t n = 30000;
     double *xyz = random_points(n, 7);
-    for (int threads = 1; threads <= 2; threads++) {
-        lines l = {0};
-        gtet_mesh *m = run(xyz, n, threads, 1, 1, 0, &l);
-        TEST_CHECK(l.n == 4, "%d threads: %d lines, expected 4", threads, l.n);
-        const char *phase[4] = {"validate: ", "sort: ", "insert: ", "finalize: "};
-        for (int i = 0; i < 4 && i < l.n; i++)
-            TEST_CHECK(starts(l.text[i], phase[i]), "line %d is '%s', expected '%s...'", i,
-                       l.text[i], phase[i]);
-        TEST_CHECK(l.n < 1 || strstr(l.text[0], "30000 points"), "validate line: '%s'", l.text[0]);
-        TEST_CHECK(l.off_thread == 0, "%d lines not from the calling thread", l.off_thread);
-        gtet_mesh_free(&m);
-    }
-    free(xyz);
-}
-
-static void test_verbosity_two_adds_one_line_per_round(void)
-{
-    const size_t n = 30000;
-    double *xyz = random_points(n, 8);
-    for (int threads = 1; threads <= 2; threads++) {
-        lines l = {0};
-        gtet_mesh *m = run(xyz, n, threads, 2, 1, 1, &l);
-        gtet_stats st;
-        gtet_mesh_stats(m, &st);
-        TEST_REQUIRE(st.num_rounds > 1, "only %d rounds", st.num_rounds);
-        TEST_CHECK(l.n == 5 + st.num_rounds, "%d threads: %d lines for %d rounds", threads, l.n,
-                   st.num_rounds);
-        int rounds = 0;
-        for (int i = 0; i < l.n && i < MAXLINES; i++) {
-            if (!starts(l.text[i], "round ")) continue;
-            int k = 0, of = 0;
-            TEST_CHECK(sscanf(l.text[i], "round %d/%d:", &k, &of) == 2 && k == rounds + 1 &&
-                           of == st.num_rounds,
-                       "line '%s' (round %d of %d expected)", l.text[i], rounds + 1,
-                       st.num_rounds);
-            rounds++;
+    for (int verbosity = 1; verbosity <= 2; verbosity++)
+        for (int threads = 1; threads <= 2; threads++) {
+            lines l = {0};
+            gtet_mesh *m = run(xyz, n, threads, verbosity, 1, verbosity == 2, &l);
+            gtet_stats st;
+            gtet_mesh_stats(m, &st);
+            if (verbosity == 1) check_phase_lines(&l, threads);
+            else check_round_lines(&l, threads, st.num_rounds);
+            TEST_CHECK(l.off_thread == 0, "%d lines not from the calling thread", l.off_thread);
+            gtet_mesh_free(&m);
         }
-        TEST_CHECK(rounds == st.num_rounds, "%d round lines for %d rounds", rounds,
-                   st.num_rounds);
-        /* the rounds come between sort and insert; the check last */
-        TEST_CHECK(l.n >= 5 && starts(l.text[1], "sort: ") &&
-                       starts(l.text[l.n - 3], "insert: ") && starts(l.text[l.n - 1], "check: ok"),
-                   "order of the lines: '%s' ... '%s'", l.text[1], l.text[l.n - 1]);
-        TEST_CHECK(l.off_thread == 0, "%d lines not from the calling thread", l.off_thread);
-        gtet_mesh_free(&m);
-    }
     free(xyz);
 }
 
@@ -138,8 +136,7 @@ static void test_silent_without_verbosity_or_callback_and_same_mesh(void)
 
 int main(void)
 {
-    TU_RUN(test_verbosity_one_gives_one_line_per_phase);
-    TU_RUN(test_verbosity_two_adds_one_line_per_round);
+    TU_RUN(test_one_line_per_phase_and_per_round_from_the_calling_thread);
     TU_RUN(test_silent_without_verbosity_or_callback_and_same_mesh);
     return tu_finish();
 }

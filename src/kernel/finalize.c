@@ -15,11 +15,11 @@
  *   3. (parallel) every handle of slots 0..L-1 becomes its tet id (h >> 2), KM_HULL becomes
  *      GTET_NO_TET; the arrays are shrunk to L tets.
  * Work: two streaming passes over the slots plus O(holes) random accesses; no array of one
- * entry per slot (the old renumbering allocated 4 B per slot and gathered through it).  A
+ * entry per slot (renumbering every slot through one is slower: NOTES.md D6).  A
  * handle of a live finite tet never names a deleted slot, and after step 1 never a ghost, so
  * step 2 only touches live finite tets: a neighbour that has not been moved yet gets its back
  * handle fixed in place and carries it when it moves.  KM_HULL = UINT32_MAX is not a handle:
- * the slots are fewer than 2^30 (mesh.h KM_MAX_SLOTS), so 4u+j <= 2^32 - 5.  The result
+ * the slots are fewer than 2^30 (kmesh.h KM_MAX_SLOTS), so 4u+j <= 2^32 - 5.  The result
  * does not depend on T (step 2 is serial and steps 1 and 3 are per slot).
  */
 #include "finalize.h"

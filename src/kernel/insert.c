@@ -104,10 +104,9 @@ static inline uint32_t rng_next(kctx *c)
 }
 
 /* The cavity search will read the records of t's neighbours: start loading them now, while
- * the tets queued before t are processed (a hint only).  Measured against one 32-byte record
- * per tet holding vertices and neighbours together (one line per tet instead of two): with
- * this prefetch the two arrays are as fast, and their compaction allocates nothing
- * (NOTES.md 2026-11-23). */
+ * the tets queued before t are processed (a hint only).  With it the two arrays are as fast as one
+ * 32-byte record per tet holding vertices and neighbours together (one line per tet instead of
+ * two), and their compaction allocates nothing (NOTES.md D2). */
 static inline void prefetch_neighbours(const kmesh *m, uint32_t t)
 {
     const uint32_t *n = m->tn + 4 * (size_t)t;

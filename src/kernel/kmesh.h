@@ -53,8 +53,8 @@ typedef struct kbound {
 
 typedef struct kctx {
     /* each thread's context starts on its own cache line (and sizeof is a multiple of 64), so
-     * that one thread's counters never share a line with another's (false sharing cost a
-     * parallel pass about 10%, NOTES.md 2026-11-23) */
+     * that one thread's counters never share a line with another's (false sharing slows a
+     * parallel pass measurably: NOTES.md E1) */
     _Alignas(64) kmesh *m;
     pred_counters cnt;
     pred_sos_log *sos_log;  /* this thread's record of the perturbation's decisions, or NULL

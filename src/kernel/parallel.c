@@ -14,9 +14,9 @@
  * km_insert defers the point otherwise, having written nothing).  proofs/parallel.md shows
  * that two threads then never write, or write and read, the same memory: no tet is two
  * threads', a tet next to one of thread k's is no other thread's, and the only tets two
- * threads both write are outer neighbours, in different neighbour slots.  Three of four, not
- * four of four (until 2026-11-24): a vertex every tet shares -- the apex over a plane, a far
- * outlier -- no longer stops every other thread.  Fresh slots come from per-thread blocks
+ * threads both write are outer neighbours, in different neighbour slots.  With three of four
+ * (after the run's first failed pass) a vertex every tet shares -- the apex over a plane, a
+ * far outlier -- does not stop every other thread (NOTES.md E9).  Fresh slots come from per-thread blocks
  * claimed with one atomic capture; the arrays grow only between passes.
  *
  * Adaptive, as in paper §4.2, with alpha = inserted / pending points of the pass, n threads:
@@ -56,24 +56,20 @@ _Static_assert(KPAR_KEY_MASK == (UINT64_C(1) << (3 * KEY_BITS)) - 1, "key mask")
  * points and has so far inserted fewer than 1 in GIVE_UP_RATE of its tries (checked after every
  * try from then on) defers the rest of its slice untried: when cavities
  * span the whole domain (points on a paraboloid: alpha = 0.001) the pass would otherwise walk
- * and roll back every point before the round goes serial (1M points, -t 2: 12.6 s against
- * 10.6 s with one thread; NOTES.md 2026-11-24).  Deferring is always allowed (O7, T5). */
+ * and roll back every point before the round goes serial, slower than one thread (NOTES.md
+ * E3).  Deferring is always allowed (O7, T5). */
 #define GIVE_UP_PROBE 16
 #define GIVE_UP_MIN 1024
 #define GIVE_UP_RATE 8
 /* A pass after the first retry re-keys every vertex in the mesh on its new box, and its points
  * are the hard ones (near two earlier partitions' boundaries, long walks): with fewer pending
- * points than nmesh / SERIAL_TAIL it is one serial pass instead (4M uniform, -t 2: a 99k-point
- * pass on a new box with two more behind it took 0.33 s; NOTES.md 2026-11-23).  The first retry
+ * points than nmesh / SERIAL_TAIL it is one serial pass instead (NOTES.md E4).  The first retry
  * (same keys, cuts rotated) is cheap and stays parallel. */
 #define SERIAL_TAIL 32
 
 static uint64_t mix64(uint64_t z)
 {
-    z += 0x9e3779b97f4a7c15ULL;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
+    return sort_hash64(z + 0x9e3779b97f4a7c15ULL);  /* splitmix64 */
 }
 
 /* The box of pass `pass`: the tight box for pass 0; then enlarged by 1.5x-2.5x and shifted by
@@ -178,9 +174,7 @@ static int scan_start(kctx *c, size_t from, int owned)
  * one of the slice's first START_TRIES points that is this thread's (km_locate, each walk
  * from the last tet found): a slice rarely starts where the thread's last one ended, and a
  * walk from there that leaves the colour defers its point and, starting again from the same
- * tet, every next one until the thread gives up on its slice (half the points in a 10^-3
- * cube, -t 2: in one run of two the second thread tried 26k points of its 417k, inserted
- * none and gave up: 1.89 s against 1.43; NOTES.md 2026-11-24, third session).  Else its last
+ * tet, every next one until the thread gives up on its slice (NOTES.md E5).  Else its last
  * tet if still good, else the first one found scanning from a slot proportional to its colour
  * (tets are roughly in Moore order of creation).  Read-only; runs before the pass's barrier,
  * while no thread writes the mesh (O4). */
@@ -218,8 +212,7 @@ static uint64_t key_mid(uint64_t x, uint64_t y)
  * starting half a slice in (never between equal keys).  The deferred points lie near the last
  * pass's region boundaries; the new regions are unions of halves of old ones, and on the
  * looping curve with two threads the new boundary is the other symmetry plane of the loop,
- * which crosses the old one only along a line (4M uniform, -t 2: 96% of the 99k deferred
- * points then go in parallel; NOTES.md 2026-11-24).
+ * which crosses the old one only along a line (most of the deferred points then go in parallel: NOTES.md E6).
  * Slices of (nearly) equal counts, each cut moved forward past equal keys.  Colour boundaries:
  * halfway along the curve between the last point of the previous slice and the first of this
  * one (cyclically), strictly after the former, so that every point's colour is its own slice's.
@@ -228,7 +221,7 @@ static uint64_t key_mid(uint64_t x, uint64_t y)
  * keys moved its points to the previous one) takes the next non-empty slice's boundary, or one
  * past every key when none follows, so that it never wins.  Ranges are measured from the first
  * non-empty slice's boundary (slice 0 is empty when np < nth: the kernel never cuts so few
- * points, but until 2026-11-24 that case coloured them 0; test_parallel_slices). */
+ * points; test_parallel_slices covers it). */
 void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, uint64_t *tk,
                  uint32_t *ti, size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0)
 {

@@ -13,9 +13,8 @@
  *     lengths: T <= 24, orient3d <= 96.  For insphere with an inexact translation we return
  *     "not applicable" and the caller uses GMP: the filter's formula on two-component
  *     translated coordinates (with the raw 5x5 form, lifts times orientations, as fallback)
- *     cost 2.3x the GMP stage on points rounded onto the unit sphere (pred_stage_counts
- *     --timing, commit history), so it is not kept.  The orient3d raw form is kept: 1.5 us
- *     against 2.4 us for GMP on the same tuples.
+ *     is slower than the GMP stage on points rounded onto the unit sphere, so it is not kept
+ *     (NOTES.md D7).  The orient3d raw form is faster than GMP on the same tuples (D7).
  * Each 3x3 minor, lift and orientation is compressed (exp_compress) before it is multiplied:
  * the value is unchanged and the products stay short (the bounds above are worst cases).
  * The band guarantees that every Two-Product is exact (expansion.h), so the result is exact.

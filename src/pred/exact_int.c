@@ -321,9 +321,9 @@ int pred_orient3d_wide(const double *a, const double *b, const double *c, const 
  * 2^60): orient2d: differences < 2^61, products < 2^122, their difference < 2^123 (__int128).
  * lifted2d: differences < 2^61, 2x2 minors < 2^123 (__int128), lifts (three squares) < 3*2^122
  * < 2^124 (unsigned __int128), lift * minor < 2^247 and the sum of three < 2^249 (320-bit
- * two's complement, mul_lift_det3).  Every operation is exact in those widths.  Before these,
- * points with real (non-integer) coordinates went to GMP: plane + apex inputs spent most of
- * their time there (NOTES.md 2026-11-23). */
+ * two's complement, mul_lift_det3).  Every operation is exact in those widths.  Without these,
+ * tuples with non-integer coordinates in a coordinate plane would go to GMP, where plane +
+ * apex inputs would spend most of their time (NOTES.md E11). */
 int pred_orient2d_wide(const double *a, const double *b, const double *c, int u, int w,
                        int *sign)
 {

@@ -10,8 +10,8 @@
  * Counters are passed explicitly (one record per worker thread): no global mutable state.
  * Conventions are those of gigatet.h: orient3d = sign det[b-a; c-a; d-a], insphere > 0 when e
  * is inside the sphere of a positively oriented (a,b,c,d).
- * Points are `const double *` to three consecutive coordinates (the kernel stores 4 doubles
- * per vertex; only the first three are read).
+ * Points are `const double *` to three consecutive coordinates (only those three are read;
+ * the kernel stores 3 doubles per vertex).
  */
 #ifndef GTET_PRED_H
 #define GTET_PRED_H

@@ -22,19 +22,20 @@
 void sort_moore_keys(const double *xyz, size_t stride, size_t n, const double bbox[6], int bits,
                      uint64_t *keys, int threads);
 
-/* Addition: as sort_moore_keys for the points ids[0..n): keys[i] is the key of the point at
+/* As sort_moore_keys for the points ids[0..n): keys[i] is the key of the point at
  * xyz + ids[i]*stride. */
 void sort_moore_keys_ids(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
                          const double bbox[6], int bits, uint64_t *keys, int threads);
 
-/* Addition: bounding box {xmin,ymin,zmin,xmax,ymax,zmax} of the points ids[0..n) (ids NULL:
+/* The bounding box {xmin,ymin,zmin,xmax,ymax,zmax} of the points ids[0..n) (ids NULL:
  * points 0..n-1), with -0.0 written as +0.0 so that it does not depend on the thread count.
  * n == 0 gives all zeros.  NaN coordinates are ignored. */
 void sort_bbox(const double *xyz, size_t stride, const uint32_t *ids, size_t n, double bbox[6],
                int threads);
 
-/* Addition, for the parallel kernel's conflict passes (seed paper section 4.2, "bounding box
- * expansion" with a shift of the curve): out is the pass-th enlarged and shifted box of bbox.
+/* The "bounding box expansion" of seed paper section 4.2 (a shifted curve for a conflict pass):
+ * out is the pass-th enlarged and shifted box of bbox.  Only the tests call it: the kernel's
+ * passes shift their boxes with parallel.c's pass_box.
  * pass <= 0 or !(factor > 1): out = bbox.  Otherwise, on each axis a of extent E (the largest
  * extent of the box when this axis is flat), with u in [0,1) a hash of (seed, pass, a):
  *   out_lo = lo - u (factor-1) E,   out_hi = hi + (1-u) (factor-1) E,
@@ -73,16 +74,16 @@ void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
  * consecutive points of a round with equal keys, unless its points all coincide, is stably
  * sorted by sort_moore_keys_ids on sort_bbox of the run's points with sort_brio_bits(run
  * length) bits, and so on for the runs of equal keys that this makes, to 32 levels.  (Without
- * it, one point far away puts the whole set into one Moore cell: 10^6 uniform points and one
- * at 10^6 took 37.6 s with one thread instead of 1.5; NOTES.md 2026-11-24.)
+ * it, one point far away puts every other point into one Moore cell, whose points would then
+ * come in random order: NOTES.md E8.)
  * Memory: 21 bytes per point, freed on return.
- * Additions: GTET_ERR_ARGUMENT when n > 0 and a pointer is NULL, first == 0, !(ratio > 1),
+ * Also: GTET_ERR_ARGUMENT when n > 0 and a pointer is NULL, first == 0, !(ratio > 1),
  * or n > 2^32.  n == 0 gives *num_rounds = 0. */
 gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t seed,
                       size_t first, double ratio, size_t round_end[64], int *num_rounds,
                       int threads);
 
-/* Addition: sort_brio, and its keys.  When keys_out is not NULL and the result is GTET_OK,
+/* sort_brio, and its keys.  When keys_out is not NULL and the result is GTET_OK,
  * *keys_out is a malloc'ed array of n keys (the caller frees it; NULL otherwise): with
  * b = *key_bits_out = sort_brio_bits(n), the low 3b bits of (*keys_out)[i] are the Moore key of
  * the point ids[i] (after sorting) on the box of all n points with b bits per axis, and the
@@ -98,12 +99,12 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
                            int *num_rounds, int threads, uint64_t **keys_out,
                            int *key_bits_out, size_t *refined_out, double *crowd_out);
 
-/* Addition: bits per axis of the Moore keys of a BRIO round of m points:
+/* Bits per axis of the Moore keys of a BRIO round of m points:
  * ceil(log2(m) / 3) + 3, between 1 and 21 (about 64 to 512 cells per point: enough to order
  * the round, few enough that the radix sort makes ceil(3 bits / 11) passes). */
 int sort_brio_bits(size_t m);
 
-/* Addition: a bijective 64-bit mixer (the splitmix64 finaliser), the library's reproducible
+/* A bijective 64-bit mixer (the splitmix64 finaliser), the library's reproducible
  * hash for shuffles and shifts. */
 static inline uint64_t sort_hash64(uint64_t z)
 {

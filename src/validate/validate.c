@@ -117,10 +117,9 @@ static gtet_status dedup_serial(const double *xyz, size_t n, double **verts_out,
 
 /* The same by partitions, on T >= 1 threads, with the same result (vertex ids in order of
  * first occurrence).  The single table above is larger than the caches: every point costs a
- * miss on its slot and one on the coordinates of the vertex it finds there, and its threaded
- * form (a shared table filled by compare-and-swap, until 2026-11-24) was little faster on
- * 2 threads than on one (4M points: 0.150 s serial, 0.118 s on 2; NOTES.md 2026-11-24, third
- * session).  Here:
+ * miss on its slot and one on the coordinates of the vertex it finds there, and a threaded
+ * form of it (a shared table filled by compare-and-swap) gains little on two threads (NOTES.md
+ * D5).  Here:
  *   1. every thread counts the points of its contiguous chunk per bucket (the top `bits` bits
  *      of the hash), and after a prefix sum (bucket-major, then chunk order) writes each point
  *      as (low 32 bits of its hash << 32 | index) into its bucket: within a bucket the indices
