@@ -127,13 +127,17 @@ typedef struct gtet_mesh gtet_mesh;
 
 typedef struct gtet_options {
     int threads;        /* worker threads; 0 = all cores (default 0) */
-    int verbosity;      /* 0 silent, 1 phases, 2 rounds; messages go to message() */
+    int verbosity;      /* 0 silent; 1: one line per phase (validate, sort, insert, finalize,
+                           check) with its seconds; 2: also one per BRIO round (points,
+                           inserted, passes, threads, alpha of the first pass, seconds);
+                           messages go to message() */
     int check;          /* nonzero: run the exact checker on the result; a failure returns
                            GTET_ERR_CHECK_FAILED and no mesh */
     /* Called now and then with the fraction of points inserted, from the calling thread. */
     void (*progress)(void *user, double fraction);
     void *progress_user;
-    /* Called with one NUL-terminated line per message (verbosity > 0). */
+    /* Called with one NUL-terminated line per message (verbosity > 0), from the calling
+     * thread, outside any parallel region; the line is valid during the call only. */
     void (*message)(void *user, const char *line);
     void *message_user;
     /* When not NULL, filled with the details of any failure. */
