@@ -7,7 +7,7 @@
  * rounds: each BRIO round through kpar_round (parallel passes, then serial);
  * finish: compaction into the result arrays (finalize.c), mesh vertex ids restored, the
  *   threads' logs of the perturbation's decisions merged, the counters summed.
- * Whatever step fails, kb_release frees everything the run allocated (one cleanup path).
+ * Whatever step fails, kbuild_release frees everything the run allocated (one cleanup path).
  */
 #include "build.h"
 
