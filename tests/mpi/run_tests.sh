@@ -1,0 +1,183 @@
+#!/usr/bin/env bash
+# tests/mpi/run_tests.sh GROUP GIGATET_MPI GIGATET WORKDIR MPIRUN API_TEST
+# The distributed mode's tests (registered as ctests by src/mpi/mpi.cmake):
+#   equal       np 1..4 x threads 1..2: the gathered mesh is the single-process mesh (gigatet
+#               diff exits 0) and gigatet check accepts it, on uniform points, a shuffled grid,
+#               a co-spherical set, a sphere surface and a dense cluster in a sparse set
+#   degenerate  a rank whose tile is empty, ranks without input points, tiny sets, duplicates
+#               across ranks, --check
+#   io          .bin (MPI-IO) and .xyz (rank 0) give the same mesh; .ele/.msh; .pvtu read by VTK
+#   bad_input   NaN on one rank (exit 2 everywhere, naming the global index), an allocation
+#               failure on one rank (4 everywhere), coplanar input (3), a missing file (2),
+#               usage (1), an unwritable output (2, no partial files): each under a time limit
+#   api         the C API under mpirun (tests/mpi/test_mpi_api.c)
+set -euo pipefail
+group=$1 mpicli=$2 cli=$3 work=$4/$1 mpirun=$5 api=${6:-}
+# Open MPI refuses root without these; set here only, for the tests
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# oversubscribed ranks yield instead of spinning in collectives (2 cores, up to 4 ranks)
+export OMPI_MCA_mpi_yield_when_idle=1
+rm -rf "$work"; mkdir -p "$work"; cd "$work"
+fails=0
+run() { timeout 60 "$mpirun" --oversubscribe -np "$@"; }
+ok() { echo "ok   $*"; }
+bad() { echo "FAIL $*"; fails=$((fails + 1)); }
+
+# every rank's exit code, through a wrapper that logs it
+each_rank_code() {  # each_rank_code NP EXPECTED LABEL -- args...
+  local np=$1 want=$2 label=$3; shift 4
+  rm -f codes.*
+  set +e
+  timeout 60 "$mpirun" --oversubscribe -np "$np" sh -c '"$@"; echo $? > codes.$OMPI_COMM_WORLD_RANK' sh "$@" \
+      > out.txt 2> err.txt
+  local to=$?
+  set -e
+  if [ "$to" = 124 ]; then bad "$label: timed out (hang)"; return; fi
+  local codes; codes=$(cat codes.* 2>/dev/null | sort | uniq -c | tr -s ' ' | tr '\n' ';')
+  local n; n=$(ls codes.* 2>/dev/null | wc -l)
+  if [ "$n" = "$np" ] && [ "$(cat codes.* | sort -u)" = "$want" ]; then ok "$label: exit $want on all $np ranks"
+  else bad "$label: want $want on $np ranks, got [$codes]"; cat err.txt; fi
+}
+
+shuffle() {  # shuffle IN OUT: the points of a .xyz in a fixed random order
+  python3 -c "
+import random, sys
+random.seed(7)
+p = [l for l in open(sys.argv[1]) if l.strip() and not l.startswith('#')]
+random.shuffle(p)
+open(sys.argv[2], 'w').writelines(p)" "$1" "$2"
+}
+
+same() {  # same NAME INPUT NP THREADS [extra args]: gathered == single process, and checked
+  local name=$1 in=$2 np=$3 t=$4; shift 4
+  if ! run "$np" "$mpicli" triangulate "$in" -t "$t" -o "d_$name.vtu" -q "$@"; then
+    bad "$name np=$np t=$t: gigatet-mpi failed"; return; fi
+  if ! "$cli" diff "ref_$name.vtu" "d_$name.vtu" -q; then bad "$name np=$np t=$t: differs"; return; fi
+  if ! "$cli" check "d_$name.vtu" --points "$in" -q; then bad "$name np=$np t=$t: check"; return; fi
+  ok "$name np=$np t=$t identical, checked"
+}
+
+ref() { "$cli" triangulate "$2" -o "ref_$1.vtu" -q; }
+
+case "$group" in
+equal)
+  "$cli" generate uniform 6000 --seed 3 -o uniform.xyz -q
+  "$cli" generate grid 4000 -o grid0.xyz -q; shuffle grid0.xyz grid.xyz
+  "$cli" generate cospherical 700 --seed 3 -o cosph0.xyz -q; shuffle cosph0.xyz cosph.xyz
+  "$cli" generate sphere 1000 --seed 3 -o sphere.xyz -q
+  # a dense cluster (1e-3 cube) inside a sparse set
+  python3 -c "
+import random
+random.seed(11)
+with open('cluster.xyz', 'w') as f:
+    for i in range(2000): f.write('%.17g %.17g %.17g\n' % tuple(random.random() for _ in range(3)))
+    for i in range(3000): f.write('%.17g %.17g %.17g\n' % tuple(0.4 + 1e-3 * random.random() for _ in range(3)))"
+  for s in uniform grid cosph sphere cluster; do
+    ref "$s" "$s.xyz"
+    for np in 1 2 3 4; do for t in 1 2; do same "$s" "$s.xyz" "$np" "$t"; done; done
+  done ;;
+degenerate)
+  # more than half the points on the plane x = 0 and x the longest axis: the kd split is at
+  # x = 0 and the first rank's tile is empty
+  python3 -c "
+import random
+random.seed(12)
+with open('emptytile.xyz', 'w') as f:
+    for i in range(1200): f.write('0 %.17g %.17g\n' % (0.1 * random.random(), 0.1 * random.random()))
+    for i in range(800): f.write('%.17g %.17g %.17g\n' % (10 * random.random(), 0.1 * random.random(), 0.1 * random.random()))"
+  ref emptytile emptytile.xyz
+  for np in 2 3 4; do for t in 1 2; do same emptytile emptytile.xyz "$np" "$t" --check; done; done
+  # 5 and 7 points: ranks with no input points, tiles of one point
+  printf '0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n' > five.xyz
+  printf '0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n0.2 0.3 0.1\n-1 2 0.5\n' > seven.xyz
+  ref five five.xyz; ref seven seven.xyz
+  for np in 2 3 4; do same five five.xyz "$np" 1 --check; same seven seven.xyz "$np" 2; done
+  # duplicates everywhere, across ranks (and -0.0 against +0.0)
+  python3 -c "
+import random
+random.seed(13)
+p = [tuple(random.randint(0, 9) * 0.125 for _ in range(3)) for i in range(400)]
+q = [random.choice(p) for i in range(1600)] + p
+random.shuffle(q)
+with open('dups.xyz', 'w') as f:
+    f.write('-0.0 0 0\n')
+    for x in q: f.write('%r %r %r\n' % x)
+    f.write('0 -0.0 0\n')"
+  ref dups dups.xyz
+  for np in 1 2 3 4; do same dups dups.xyz "$np" 2 --check; done ;;
+io)
+  "$cli" generate uniform 5000 --seed 9 -o u.bin -q
+  "$cli" generate uniform 5000 --seed 9 -o u.xyz -q
+  ref u u.bin
+  for np in 1 3; do same u u.bin "$np" 1; same u u.xyz "$np" 2 --check; done
+  for ext in ele msh; do
+    run 3 "$mpicli" triangulate u.bin -o "d.$ext" -q
+    if "$cli" diff ref_u.vtu "d.$ext" -q; then ok ".$ext identical"; else bad ".$ext differs"; fi
+  done
+  run 4 "$mpicli" triangulate u.bin -o pieces.pvtu -q
+  if /usr/bin/python3 - <<'PY'   # Debian's python3 has python3-vtk9
+import vtk
+r = vtk.vtkXMLPUnstructuredGridReader(); r.SetFileName('pieces.pvtu'); r.Update()
+g = r.GetOutput()
+tets = set()
+for c in range(g.GetNumberOfCells()):
+    cell = g.GetCell(c)
+    assert cell.GetCellType() == 10
+    tets.add(tuple(sorted(tuple(g.GetPoint(cell.GetPointId(i))) for i in range(4))))
+r2 = vtk.vtkXMLUnstructuredGridReader(); r2.SetFileName('ref_u.vtu'); r2.Update()
+h = r2.GetOutput()
+ref = set()
+for c in range(h.GetNumberOfCells()):
+    cell = h.GetCell(c)
+    ref.add(tuple(sorted(tuple(h.GetPoint(cell.GetPointId(i))) for i in range(4))))
+assert g.GetNumberOfCells() == len(tets) == len(ref) and tets == ref, (len(tets), len(ref))
+print('pvtu: %d pieces, %d tets, the single-process set' % (r.GetNumberOfPieces(), len(tets)))
+PY
+  then ok ".pvtu read by VTK, identical"; else bad ".pvtu"; fi
+  # --stats is one JSON object
+  if run 2 "$mpicli" triangulate u.bin --stats | python3 -c "import json,sys; d=json.load(sys.stdin); assert d['ranks']==2 and len(d['per_rank'])==2"
+  then ok "--stats JSON"; else bad "--stats"; fi ;;
+bad_input)
+  "$cli" generate uniform 4000 --seed 4 -o u.bin -q
+  # a NaN at global index 3500 (in the last rank's slice)
+  python3 -c "
+import struct
+b = bytearray(open('u.bin','rb').read())
+struct.pack_into('<d', b, 8 + 24 * 3500 + 8, float('nan'))
+open('nan.bin','wb').write(b)"
+  each_rank_code 4 2 "NaN on rank 3" -- "$mpicli" triangulate nan.bin -q
+  if grep -q "input point 3500 " err.txt; then ok "NaN message names global index 3500"; else bad "NaN message: $(cat err.txt)"; fi
+  each_rank_code 3 2 "NaN, -o" -- "$mpicli" triangulate nan.bin -o nan_out.vtu -q
+  if ls nan_out* 2>/dev/null; then bad "partial output after NaN"; else ok "no output after NaN"; fi
+  for k in 0 3 9 20 40; do
+    GTET_MPI_FAIL_ALLOC="1:$k" each_rank_code 3 4 "allocation $k fails on rank 1" -- "$mpicli" triangulate u.bin -q
+  done
+  GTET_MPI_FAIL_ALLOC="2:25" each_rank_code 4 4 "allocation fails on rank 2 (-o)" -- "$mpicli" triangulate u.bin -o oom.vtu -q
+  if ls oom* 2>/dev/null; then bad "partial output after OOM"; else ok "no output after OOM"; fi
+  python3 -c "
+import random
+random.seed(3)
+with open('flat.xyz','w') as f:
+    for i in range(3000):
+        x, y = random.randint(-1000, 1000), random.randint(-1000, 1000)
+        f.write('%d %d %d\n' % (x, y, 2 * x - y))"
+  each_rank_code 4 3 "coplanar" -- "$mpicli" triangulate flat.xyz -q
+  if grep -q "coplanar" err.txt; then ok "coplanar message"; else bad "coplanar message: $(cat err.txt)"; fi
+  printf '1 2 3\n1 2 3\n' > point.xyz
+  each_rank_code 3 3 "one distinct point" -- "$mpicli" triangulate point.xyz -q
+  each_rank_code 2 2 "missing file" -- "$mpicli" triangulate nosuch.bin -q
+  each_rank_code 2 2 "missing .xyz" -- "$mpicli" triangulate nosuch.xyz -q
+  printf 'abc' > short.bin
+  each_rank_code 3 2 "truncated .bin" -- "$mpicli" triangulate short.bin -q
+  each_rank_code 2 1 "usage" -- "$mpicli" triangulate
+  each_rank_code 2 1 "bad -t" -- "$mpicli" triangulate u.bin -t x
+  each_rank_code 2 2 "unwritable output" -- "$mpicli" triangulate u.bin -o /nonexistent/dir/x.vtu -q
+  each_rank_code 2 2 "unwritable .pvtu" -- "$mpicli" triangulate u.bin -o /nonexistent/dir/x.pvtu -q ;;
+api)
+  run 1 "$api" && ok "api np=1" || bad "api np=1"
+  run 3 "$api" && ok "api np=3" || bad "api np=3"
+  run 4 "$api" && ok "api np=4" || bad "api np=4" ;;
+*) echo "unknown group $group"; exit 2 ;;
+esac
+echo "$group: $fails failure(s)"
+[ "$fails" = 0 ]

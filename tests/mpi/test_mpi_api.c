@@ -1,1 +1,140 @@
-int main(void) { return 0; }
+/* test_mpi_api.c -- gtet_triangulate_mpi through its C API, under mpirun -np 1..4:
+ * explicit first_index ranges in reverse rank order, an empty rank, duplicates across ranks;
+ * the input map, the tets and every neighbour link equal gtet_triangulate's on the whole set;
+ * gtet_check_mpi accepts the result; a NaN on the last rank and overlapping index ranges give
+ * the same error on every rank. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gigatet_mpi.h"
+
+static int rank, size, fails;
+#define CHECK(c, ...) do { if (!(c)) { fails++; fprintf(stderr, "rank %d: FAIL %s:%d: ", rank, __FILE__, __LINE__); \
+    fprintf(stderr, __VA_ARGS__); fputc('\n', stderr); } } while (0)
+
+static uint64_t rng = 88172645463325252ull;
+static double rnd(void)
+{
+    rng ^= rng << 13; rng ^= rng >> 7; rng ^= rng << 17;
+    return (double)(rng >> 11) / 9007199254740992.0;
+}
+
+static int cmp4(const void *a, const void *b)
+{
+    const uint64_t *x = a, *y = b;
+    for (int k = 0; k < 4; k++) if (x[k] != y[k]) return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+static void sort4(uint64_t *k)
+{
+    for (int i = 1; i < 4; i++)
+        for (int j = i; j > 0 && k[j - 1] > k[j]; j--) { uint64_t t = k[j]; k[j] = k[j - 1]; k[j - 1] = t; }
+}
+
+int main(int argc, char **argv)
+{
+    MPI_Init(&argc, &argv);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    const size_t N = 3000;
+    double *all = malloc(3 * N * sizeof *all);
+    for (size_t i = 0; i < N; i++) {
+        if (i > 100 && i % 7 == 0) {   /* a duplicate of an earlier point */
+            size_t j = (size_t)(rnd() * (double)(i - 1));
+            memcpy(all + 3 * i, all + 3 * j, 3 * sizeof(double));
+        } else {
+            for (int k = 0; k < 3; k++) all[3 * i + k] = floor(rnd() * 64) / 8;  /* a lattice: ties */
+        }
+    }
+    /* reference */
+    gtet_mesh *ref = NULL;
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = 1;
+    if (gtet_triangulate(all, N, &o, &ref) != GTET_OK) { fprintf(stderr, "reference failed\n"); return 1; }
+    /* slices: rank r gets chunk (size-1-r); with 3+ ranks rank 0 gets nothing */
+    int chunks = size >= 3 ? size - 1 : size;
+    int c = size >= 3 ? (rank == 0 ? -1 : size - 1 - rank) : size - 1 - rank;
+    size_t a = c < 0 ? 0 : N * (size_t)c / (size_t)chunks, b = c < 0 ? 0 : N * (size_t)(c + 1) / (size_t)chunks;
+    gtet_error err;
+    o.error = &err;
+    gtet_mpi_result r;
+    gtet_status s = gtet_triangulate_mpi(MPI_COMM_WORLD, all + 3 * a, b - a, a, &o, &r);
+    CHECK(s == GTET_OK, "status %d: %s", (int)s, err.message);
+    if (s == GTET_OK) {
+        const uint32_t *map = gtet_mesh_input_map(ref);
+        for (size_t i = a; i < b; i++) CHECK(r.input_map[i - a] == map[i], "input map of %zu", i);
+        CHECK(r.num_vertices == gtet_mesh_num_vertices(ref), "vertices");
+        CHECK(r.num_tets_global == gtet_mesh_num_tets(ref), "tets %llu vs %zu",
+              (unsigned long long)r.num_tets_global, gtet_mesh_num_tets(ref));
+        gtet_check_report rep;
+        CHECK(gtet_check_mpi(MPI_COMM_WORLD, &r, &rep) == GTET_OK, "check: %s", rep.message);
+        /* gather tets and neighbours (global id order) to rank 0 */
+        uint64_t T = r.num_tets_global;
+        uint64_t *gt = malloc((4 * T + 1) * sizeof *gt), *gn = malloc((4 * T + 1) * sizeof *gn);
+        int *cnt = malloc(2 * (size_t)size * sizeof *cnt), mine = (int)(4 * r.num_tets);
+        MPI_Allgather(&mine, 1, MPI_INT, cnt, 1, MPI_INT, MPI_COMM_WORLD);
+        for (int q = 0, at = 0; q < size; q++) { cnt[size + q] = at; at += cnt[q]; }
+        MPI_Allgatherv(r.tets, mine, MPI_UINT64_T, gt, cnt, cnt + size, MPI_UINT64_T, MPI_COMM_WORLD);
+        MPI_Allgatherv(r.neighbors, mine, MPI_UINT64_T, gn, cnt, cnt + size, MPI_UINT64_T, MPI_COMM_WORLD);
+        if (rank == 0) {
+            size_t nt = gtet_mesh_num_tets(ref);
+            const uint32_t *rt = gtet_mesh_tets(ref), *rn = gtet_mesh_neighbors(ref);
+            uint64_t (*rk)[5] = malloc(nt * sizeof *rk), (*dk)[5] = malloc(T * sizeof *dk);
+            for (size_t t = 0; t < nt; t++) { for (int k = 0; k < 4; k++) rk[t][k] = rt[4 * t + k]; sort4(rk[t]); rk[t][4] = t; }
+            for (uint64_t t = 0; t < T; t++) { for (int k = 0; k < 4; k++) dk[t][k] = gt[4 * t + k]; sort4(dk[t]); dk[t][4] = t; }
+            qsort(rk, nt, sizeof *rk, cmp4);
+            int same = T == nt;
+            for (size_t t = 0; same && t < nt; t++) same = !cmp4(rk[t], dk[0]) || 1;
+            /* set equality */
+            uint64_t (*ds)[5] = malloc(T * sizeof *ds);
+            memcpy(ds, dk, T * sizeof *ds);
+            qsort(ds, T, sizeof *ds, cmp4);
+            for (size_t t = 0; same && t < nt; t++) same = !cmp4(rk[t], ds[t]);
+            CHECK(same, "the tets differ from the single-process mesh");
+            /* neighbours: across the facet opposite vertex v, the same tet as in the reference */
+            for (uint64_t t = 0; same && t < T; t++) {
+                uint64_t *f = bsearch(dk[t], rk, nt, sizeof *rk, cmp4);
+                size_t rt_i = (size_t)f[4];
+                for (int k = 0; k < 4; k++) {
+                    uint64_t v = gt[4 * t + k], g = gn[4 * t + k];
+                    int rf = 0;
+                    while (rt[4 * rt_i + rf] != v) rf++;
+                    uint32_t rnb = rn[4 * rt_i + rf];
+                    if (rnb == GTET_NO_TET) { CHECK(g == GTET_MPI_NO_TET, "tet %llu: hull facet has a neighbour", (unsigned long long)t); continue; }
+                    uint64_t want[4];
+                    for (int j = 0; j < 4; j++) want[j] = rt[4 * (size_t)rnb + j];
+                    sort4(want);
+                    CHECK(g != GTET_MPI_NO_TET && g < T && !cmp4(dk[g], want), "tet %llu facet %d: wrong neighbour", (unsigned long long)t, k);
+                }
+            }
+            free(rk); free(dk); free(ds);
+            printf("api: %d ranks, %llu tets identical, neighbours identical, check ok\n", size, (unsigned long long)T);
+        }
+        free(gt); free(gn); free(cnt);
+        gtet_mpi_result_free(&r);
+    }
+    /* a NaN on the last rank: GTET_ERR_NONFINITE everywhere with its global index */
+    double *mine_pts = malloc((3 * (b - a) + 3) * sizeof *mine_pts);
+    memcpy(mine_pts, all + 3 * a, 3 * (b - a) * sizeof(double));
+    if (rank == size - 1 && b - a > 5) mine_pts[3 * 5 + 1] = NAN;
+    size_t nanidx = 0;
+    { int lr = size - 1, lc = size >= 3 ? (lr == 0 ? -1 : size - 1 - lr) : size - 1 - lr;
+      nanidx = N * (size_t)lc / (size_t)chunks + 5; }
+    s = gtet_triangulate_mpi(MPI_COMM_WORLD, mine_pts, b - a, a, &o, &r);
+    CHECK(s == GTET_ERR_NONFINITE && err.index == nanidx, "NaN: status %d index %zu (want %zu): %s", (int)s, err.index, nanidx, err.message);
+    /* overlapping ranges */
+    if (size > 1) {
+        s = gtet_triangulate_mpi(MPI_COMM_WORLD, all, 10, 0, &o, &r);
+        CHECK(s == GTET_ERR_ARGUMENT, "overlap: status %d", (int)s);
+    }
+    free(mine_pts);
+    free(all);
+    gtet_mesh_free(&ref);
+    int tot = 0;
+    MPI_Allreduce(&fails, &tot, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+    MPI_Finalize();
+    return tot ? 1 : 0;
+}
