@@ -75,7 +75,6 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
     creq *sb = NULL, *rb = NULL;
     crep *ans = NULL, *back = NULL;
     size_t *slot = NULL;
-    char *used = NULL;
     if (!c.sc || !scnt || !rcnt || !r) s = mx_fail(&c, r ? GTET_ERR_OUT_OF_MEMORY : GTET_ERR_ARGUMENT,
                                                   "out of memory or NULL result");
     if (c.sc) {
@@ -184,11 +183,7 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
                         "of %llu", a, b, (unsigned long long)back[k].apex, a);
     }
     if ((s = mx_agree(&c, s)) != GTET_OK) goto done;
-    /* every vertex is used: the tiles' vertices against the owned tets' vertices.  A vertex
-     * is used iff some rank's used list has it; count distinct used ids globally through the
-     * tile owner: each rank reports which of the used ids are its... simpler: sum over ranks
-     * of the used ids owned by the smallest-id rule is not available, so compare the union's
-     * size by hashing ids to ranks. */
+    /* every vertex is used: the distinct used ids, counted on the rank id % P */
     {
         size_t *uc = mx_calloc((size_t)P, sizeof *uc), *ur = mx_calloc((size_t)P, sizeof *ur);
         size_t *up = mx_calloc((size_t)P + 1, sizeof *up);
@@ -245,6 +240,5 @@ done:
     free(ans);
     free(back);
     free(slot);
-    free(used);
     return s;
 }

@@ -623,7 +623,7 @@ static void tet_ball(const double *a, const double *b, const double *cc, const d
     B->all = 1;
     if (!(L >= 1e-100 && L <= 1e100) || !(fabs(D) > 0)) return;
     double cond = L * L * L / fabs(D);
-    if (!(cond <= 1e6)) return;
+    if (!(cond <= 1e12)) return;
     double o[3], amax = 0;
     for (int k = 0; k < 3; k++) {
         o[k] = (lb * x1[k] + lc * x2[k] + ld * x3[k]) / (2 * D);
@@ -631,7 +631,8 @@ static void tet_ball(const double *a, const double *b, const double *cc, const d
         amax = fmax(amax, fabs(a[k]));
     }
     double R = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-    B->r = R * (1 + 1e-6) + 1e-14 * (amax + R);
+    /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it */
+    B->r = R * (1 + 1e-6) + 200 * DBL_EPSILON * cond * (R + L) + 1e-14 * (amax + R);
     if (!isfinite(B->r) || !isfinite(B->c[0]) || !isfinite(B->c[1]) || !isfinite(B->c[2]))
         return;
     B->all = 0;
@@ -983,6 +984,22 @@ static gtet_status step_seed(run *R, double layer)
     size_t *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
     gtet_status s = (out && rcnt) ? GTET_OK : mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                       "out of memory");
+    if (s == GTET_OK && R->m) {
+        /* room for the tile and a ghost layer up front: no rehashing, fewer page faults */
+        size_t want = R->m + R->m / 4 + 64, cap = 64;
+        while (cap < 2 * want) cap *= 2;
+        mpt *sp = mx_malloc(want * sizeof *sp);
+        int *so = mx_malloc(want * sizeof *so);
+        if (!sp || !so || hs_grow(&R->have, cap) != 0) {
+            free(sp);
+            free(so);
+            s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+        } else {
+            R->sp = sp;
+            R->sown = so;
+            R->scap = want;
+        }
+    }
     if (s == GTET_OK)
         for (size_t i = 0; i < R->m && s == GTET_OK; i++)
             if (s_add(R, &R->tile[i], me) < 0)
@@ -1202,9 +1219,9 @@ static int cmp_frec_idx(const void *a, const void *b)
     return x->tet < y->tet ? -1 : x->tet > y->tet;
 }
 
-static int cmp_u64(const void *a, const void *b)
+static int cmp_mpt_id(const void *a, const void *b)
 {
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    uint64_t x = ((const mpt *)a)->id, y = ((const mpt *)b)->id;
     return x < y ? -1 : x > y;
 }
 
@@ -1354,7 +1371,7 @@ static gtet_status step_output(run *R, gtet_mpi_result *res)
     res->num_tile_vertices = m;
     res->tile_vertex_ids = mx_malloc(m * sizeof *res->tile_vertex_ids);
     res->tile_vertices = mx_malloc(3 * m * sizeof *res->tile_vertices);
-    uint64_t *used = mx_malloc((4 * own + 1) * sizeof *used);
+    uint64_t *used = mx_malloc((R->ns + 1) * sizeof *used);
     if (!res->tile_vertex_ids || !res->tile_vertices || !used) {
         free(used);
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
@@ -1364,29 +1381,40 @@ static gtet_status step_output(run *R, gtet_mpi_result *res)
         res->tile_vertex_ids[i] = R->tile[i].id;
         memcpy(res->tile_vertices + 3 * i, R->tile[i].x, 3 * sizeof(double));
     }
-    /* local index in S of each used vertex: pack (id) then look up through a sorted copy */
-    size_t nu = 0;
+    /* the used vertices: marked over S, listed by vertex id */
+    uint32_t *slotof = mx_malloc((R->ns + 1) * sizeof *slotof);
+    mpt *lst = mx_malloc((R->ns + 1) * sizeof *lst);
+    if (!slotof || !lst) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) != GTET_OK) {
+        free(slotof);
+        free(lst);
+        free(used);
+        goto done;
+    }
+    memset(slotof, 0, (R->ns + 1) * sizeof *slotof);
     for (size_t t = 0; t < nt; t++)
         if (gid[t] != NOID)
-            for (int i = 0; i < 4; i++) used[nu++] = tv[4 * t + i];
-    /* sort local indices by vertex id through the ids (S ids are distinct) */
-    for (size_t i = 0; i < nu; i++) used[i] = R->sp[used[i]].id;
-    qsort(used, nu, sizeof *used, cmp_u64);
+            for (int i = 0; i < 4; i++) slotof[tv[4 * t + i]] = 1;
     size_t w = 0;
-    for (size_t i = 0; i < nu; i++)
-        if (w == 0 || used[w - 1] != used[i]) used[w++] = used[i];
+    for (size_t i = 0; i < R->ns; i++)
+        if (slotof[i]) {
+            lst[w] = R->sp[i];
+            lst[w].id = R->sp[i].id;
+            w++;
+        }
+    qsort(lst, w, sizeof *lst, cmp_mpt_id);
     res->num_used_vertices = w;
     res->used_vertex_ids = used;
     res->used_vertices = mx_malloc((3 * w + 1) * sizeof *res->used_vertices);
     if (!res->used_vertices) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    if ((s = mx_agree(c, s)) != GTET_OK) goto done;
-    for (size_t t = 0; t < nt; t++)
-        if (gid[t] != NOID)
-            for (int i = 0; i < 4; i++) {
-                const mpt *p = &R->sp[tv[4 * t + i]];
-                uint64_t *at = bsearch(&p->id, used, w, sizeof *used, cmp_u64);
-                memcpy(res->used_vertices + 3 * (size_t)(at - used), p->x, 3 * sizeof(double));
-            }
+    if (s == GTET_OK)
+        for (size_t i = 0; i < w; i++) {
+            used[i] = lst[i].id;
+            memcpy(res->used_vertices + 3 * i, lst[i].x, 3 * sizeof(double));
+        }
+    free(slotof);
+    free(lst);
+    s = mx_agree(c, s);
 done:
     free(gid);
     free(scnt);
