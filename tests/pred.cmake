@@ -23,7 +23,7 @@ if(GTET_CPU_HAS_FMA AND CMAKE_C_COMPILER_ID MATCHES "GNU|Clang")
                  ${CMAKE_CURRENT_SOURCE_DIR}/test_fp_assumptions.c
                  ${CMAKE_CURRENT_SOURCE_DIR}/testutil.c ${GTET_PRED_SOURCES})
   target_include_directories(test_fp_contraction_is_detected PRIVATE
-                             ${PROJECT_SOURCE_DIR}/src ${CMAKE_CURRENT_SOURCE_DIR} ${GMP_INCLUDE_DIR})
+                             ${GTET_INCLUDE_DIRS} ${CMAKE_CURRENT_SOURCE_DIR} ${GMP_INCLUDE_DIR})
   # Replace (not append to) the project-wide options: clang ignores a later
   # -ffp-contract=fast after -fno-unsafe-math-optimizations / under -frounding-math.
   # -O2 in every build type: GCC contracts only when optimizing.
@@ -35,11 +35,13 @@ if(GTET_CPU_HAS_FMA AND CMAKE_C_COMPILER_ID MATCHES "GNU|Clang")
 endif()
 
 add_test(NAME test_fpenv_accepts_default_flags
-         COMMAND ${CMAKE_C_COMPILER} -std=c17 -fsyntax-only -I${PROJECT_SOURCE_DIR}/src
+         COMMAND ${CMAKE_C_COMPILER} -std=c17 -fsyntax-only -I${PROJECT_SOURCE_DIR}/include
+                 -I${PROJECT_SOURCE_DIR}/src
                  ${GTET_PRED_SRC_DIR}/fpcheck.c)
 add_test(NAME test_fpenv_rejects_fast_math
          COMMAND ${CMAKE_C_COMPILER} -std=c17 -ffast-math -fsyntax-only
-                 -I${PROJECT_SOURCE_DIR}/src ${GTET_PRED_SRC_DIR}/fpcheck.c)
+                 -I${PROJECT_SOURCE_DIR}/include -I${PROJECT_SOURCE_DIR}/src
+                 ${GTET_PRED_SRC_DIR}/fpcheck.c)
 set_tests_properties(test_fpenv_rejects_fast_math PROPERTIES WILL_FAIL TRUE TIMEOUT 60)
 set_tests_properties(test_fpenv_accepts_default_flags PROPERTIES TIMEOUT 60)
 

@@ -1,5 +1,5 @@
 /* options.c -- the defaults of gtet_options (gigatet.h). */
-#include "../gigatet.h"
+#include "gigatet.h"
 
 #include <string.h>
 

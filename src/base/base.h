@@ -14,7 +14,7 @@
 
 #include <stddef.h>
 
-#include "../gigatet.h"
+#include "gigatet.h"
 
 #ifdef GTET_DEBUG
 #include <stdlib.h>

@@ -5,6 +5,15 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#define GTET_STR_(x) #x
+#define GTET_STR(x) GTET_STR_(x)
+
+const char *gtet_version(void)
+{
+    return GTET_STR(GTET_VERSION_MAJOR) "." GTET_STR(GTET_VERSION_MINOR) "." GTET_STR(
+        GTET_VERSION_PATCH);
+}
+
 const char *gtet_status_str(gtet_status status)
 {
     switch (status) {

@@ -9,7 +9,7 @@
 #ifndef GTET_CHECK_INTERNAL_H
 #define GTET_CHECK_INTERNAL_H
 
-#include "../gigatet.h"
+#include "gigatet.h"
 
 #define CHK_KNOWN_FLAGS                                                                     \
     ((unsigned)GTET_CHECK_FULL | (unsigned)GTET_CHECK_NO_FILTER | (unsigned)GTET_CHECK_DELAUNAY | \

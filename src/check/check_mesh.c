@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../gigatet.h"
+#include "gigatet.h"
 #include "check_internal.h"
 
 gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsigned flags,

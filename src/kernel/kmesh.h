@@ -21,7 +21,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "../gigatet.h"
+#include "gigatet.h"
 #include "../pred/pred.h"
 
 #define KM_GHOST UINT32_MAX

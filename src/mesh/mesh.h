@@ -8,7 +8,7 @@
 #ifndef GTET_MESH_H
 #define GTET_MESH_H
 
-#include "../gigatet.h"
+#include "gigatet.h"
 
 struct gtet_mesh {
     size_t n_points;          /* input points as given */

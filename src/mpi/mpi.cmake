@@ -17,7 +17,7 @@ endif()
 set(_gtet_mpi_dir ${CMAKE_CURRENT_LIST_DIR})
 add_library(gigatet_mpi STATIC ${_gtet_mpi_dir}/mpi_util.c ${_gtet_mpi_dir}/mpi_triangulate.c
             ${_gtet_mpi_dir}/mpi_check.c)
-target_include_directories(gigatet_mpi PUBLIC ${_gtet_mpi_dir} ${PROJECT_SOURCE_DIR}/src)
+target_include_directories(gigatet_mpi PUBLIC ${_gtet_mpi_dir} ${GTET_INCLUDE_DIRS})
 target_link_libraries(gigatet_mpi PUBLIC gigatet_static MPI::MPI_C ${M_LIBRARY})
 
 add_executable(gigatet_mpi_cli ${_gtet_mpi_dir}/cli_mpi.c)

@@ -16,7 +16,7 @@
 #ifndef GTET_PRED_H
 #define GTET_PRED_H
 
-#include "../gigatet.h"
+#include "gigatet.h"
 #include "filter.h"
 #include "fpenv.h"
 

@@ -10,7 +10,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "../gigatet.h"
+#include "gigatet.h"
 
 /* Moore key of each point on a grid of 2^bits cells per axis over bbox
  * {xmin,ymin,zmin,xmax,ymax,zmax} (3*bits <= 63).  Point i is at xyz + i*stride (doubles).

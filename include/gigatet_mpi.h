@@ -89,11 +89,11 @@ typedef struct gtet_mpi_result {
  * failure with the agreed error; check: each rank runs the exact checker on its local
  * triangulation and the ranks check their shared facets, see gtet_check_mpi).  On success
  * *result is filled (free it with gtet_mpi_result_free); on failure it is zeroed. */
-gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
-                                 uint64_t first_index, const gtet_options *opts,
-                                 gtet_mpi_result *result);
+GTET_API gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
+                                          uint64_t first_index, const gtet_options *opts,
+                                          gtet_mpi_result *result);
 
-void gtet_mpi_result_free(gtet_mpi_result *result);   /* NULL-safe; zeroes it */
+GTET_API void gtet_mpi_result_free(gtet_mpi_result *result);   /* NULL-safe; zeroes it */
 
 /* Collective: the cross-rank part of the checker on a result.  Every owned tet positively
  * oriented (exact), every neighbour link symmetric (the tet across names this one back,
@@ -104,8 +104,8 @@ void gtet_mpi_result_free(gtet_mpi_result *result);   /* NULL-safe; zeroes it */
  * gtet_check, on each rank's local triangulation.)  GTET_OK or GTET_ERR_CHECK_FAILED on
  * every rank, report->message saying the first failure; report->tets counts the global
  * tets, report->hull_facets the hull facets, report->facets_checked the interior links. */
-gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *result,
-                           gtet_check_report *report);
+GTET_API gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *result,
+                                    gtet_check_report *report);
 
 #ifdef __cplusplus
 }

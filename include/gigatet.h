@@ -36,6 +36,18 @@ extern "C" {
 #define GTET_VERSION_MINOR 1
 #define GTET_VERSION_PATCH 0
 
+/* GTET_API marks the public functions: exported from libgigatet.so, which is compiled with
+ * hidden visibility (-fvisibility=hidden) so that nothing else is; empty for users. */
+#if defined(GTET_BUILDING_LIBRARY) && (defined(__GNUC__) || defined(__clang__))
+#define GTET_API __attribute__((visibility("default")))
+#else
+#define GTET_API
+#endif
+
+/* The library's version at run time, "MAJOR.MINOR.PATCH" (static string): the macros above
+ * say which header a program was compiled with, this which library it runs with. */
+GTET_API const char *gtet_version(void);
+
 /* ------------------------------------------------------------------------------------------ */
 /* Status                                                                                     */
 /* ------------------------------------------------------------------------------------------ */
@@ -53,7 +65,7 @@ typedef enum gtet_status {
 } gtet_status;
 
 /* A static, never-NULL English description of a status. */
-const char *gtet_status_str(gtet_status status);
+GTET_API const char *gtet_status_str(gtet_status status);
 
 /* Details of a failure, filled when the caller passes one (see gtet_options.error). */
 typedef struct gtet_error {
@@ -69,19 +81,20 @@ typedef struct gtet_error {
 
 /* Sign of det[b-a; c-a; d-a]: +1 when (a,b,c,d) is positively oriented, as (0, e_x, e_y, e_z)
  * is; -1 for the mirror image; 0 when the four points are coplanar. */
-int gtet_orient3d(const double a[3], const double b[3], const double c[3], const double d[3]);
+GTET_API int gtet_orient3d(const double a[3], const double b[3], const double c[3],
+                           const double d[3]);
 
 /* +1 when e is strictly inside the sphere through a,b,c,d and orient3d(a,b,c,d) > 0; the sign
  * flips with the orientation of (a,b,c,d); 0 when the five points are co-spherical (or
  * a,b,c,d coplanar and e on their circle / plane in the degenerate sense of the determinant). */
-int gtet_insphere(const double a[3], const double b[3], const double c[3], const double d[3],
-                  const double e[3]);
+GTET_API int gtet_insphere(const double a[3], const double b[3], const double c[3],
+                           const double d[3], const double e[3]);
 
 /* As gtet_insphere, with exact zeros broken by the lexicographic symbolic perturbation of
  * Devillers & Teillaud (CGAL's rule): never 0 for five distinct points with
  * orient3d(a,b,c,d) != 0. */
-int gtet_insphere_sos(const double a[3], const double b[3], const double c[3], const double d[3],
-                      const double e[3]);
+GTET_API int gtet_insphere_sos(const double a[3], const double b[3], const double c[3],
+                               const double d[3], const double e[3]);
 
 /* The hull rule.  A ghost (infinite) tet is (a,b,c,infinity), with its finite facet (a,b,c)
  * ordered so that orient3d(a,b,c,p) < 0 for the points p of the hull.  e conflicts with it
@@ -89,8 +102,8 @@ int gtet_insphere_sos(const double a[3], const double b[3], const double c[3], c
  * coplanar with (a,b,c), +1 when e is inside the perturbed circle through a,b,c (CGAL's
  * coplanar_side_of_bounded_circle with perturbation), else -1.  Never 0 for four distinct
  * points with a,b,c not collinear. */
-int gtet_ghost_conflict(const double a[3], const double b[3], const double c[3],
-                        const double e[3]);
+GTET_API int gtet_ghost_conflict(const double a[3], const double b[3], const double c[3],
+                                 const double e[3]);
 
 /* Counters of how each predicate call on this thread was decided.  The public predicates
  * above count into a thread-local record; the kernel counts per worker thread and reports the
@@ -114,8 +127,8 @@ typedef struct gtet_pred_counters {
 } gtet_pred_counters;
 
 /* Copy the calling thread's counters; reset them. */
-void gtet_pred_counters_get(gtet_pred_counters *out);
-void gtet_pred_counters_reset(void);
+GTET_API void gtet_pred_counters_get(gtet_pred_counters *out);
+GTET_API void gtet_pred_counters_reset(void);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Triangulation                                                                              */
@@ -155,30 +168,30 @@ typedef struct gtet_options {
 } gtet_options;
 
 /* Fill *opts with the defaults above. */
-void gtet_options_init(gtet_options *opts);
+GTET_API void gtet_options_init(gtet_options *opts);
 
 /* Build the Delaunay tetrahedrization of the n points xyz[3*i..3*i+2].  On success *mesh
  * holds the result (free it with gtet_mesh_free); on failure *mesh is NULL, the status says
  * why and opts->error (if given) the details.  opts may be NULL for the defaults. */
-gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *opts,
-                             gtet_mesh **mesh);
+GTET_API gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *opts,
+                                      gtet_mesh **mesh);
 
-void gtet_mesh_free(gtet_mesh **mesh);  /* sets *mesh to NULL; NULL-safe */
+GTET_API void gtet_mesh_free(gtet_mesh **mesh);  /* sets *mesh to NULL; NULL-safe */
 
-size_t gtet_mesh_num_points(const gtet_mesh *mesh);      /* n as given */
-size_t gtet_mesh_num_vertices(const gtet_mesh *mesh);    /* distinct points */
-size_t gtet_mesh_num_duplicates(const gtet_mesh *mesh);  /* n - vertices */
-size_t gtet_mesh_num_tets(const gtet_mesh *mesh);        /* finite tets */
-size_t gtet_mesh_num_hull_facets(const gtet_mesh *mesh);
+GTET_API size_t gtet_mesh_num_points(const gtet_mesh *mesh);      /* n as given */
+GTET_API size_t gtet_mesh_num_vertices(const gtet_mesh *mesh);    /* distinct points */
+GTET_API size_t gtet_mesh_num_duplicates(const gtet_mesh *mesh);  /* n - vertices */
+GTET_API size_t gtet_mesh_num_tets(const gtet_mesh *mesh);        /* finite tets */
+GTET_API size_t gtet_mesh_num_hull_facets(const gtet_mesh *mesh);
 
 /* 3*nv coordinates of the vertices. */
-const double *gtet_mesh_vertices(const gtet_mesh *mesh);
+GTET_API const double *gtet_mesh_vertices(const gtet_mesh *mesh);
 /* n entries: the vertex id of input point i (the first occurrence for a duplicate). */
-const uint32_t *gtet_mesh_input_map(const gtet_mesh *mesh);
+GTET_API const uint32_t *gtet_mesh_input_map(const gtet_mesh *mesh);
 /* 4*nt vertex ids, each tet positively oriented. */
-const uint32_t *gtet_mesh_tets(const gtet_mesh *mesh);
+GTET_API const uint32_t *gtet_mesh_tets(const gtet_mesh *mesh);
 /* 4*nt tet ids: neighbor[4*t+f] is across the facet opposite tets[4*t+f], or GTET_NO_TET. */
-const uint32_t *gtet_mesh_neighbors(const gtet_mesh *mesh);
+GTET_API const uint32_t *gtet_mesh_neighbors(const gtet_mesh *mesh);
 
 /* One decision of the symbolic perturbation during gtet_triangulate (opts.degeneracies): an
  * exact zero the kernel met and the sign the perturbation gave it.  Vertex ids are mesh ids
@@ -218,8 +231,8 @@ typedef struct gtet_degeneracy {
  * order depends only on the set of records.  Truncated, the list keeps each thread's first
  * `limit` decisions (each thread records in its own order) and then the smallest in the
  * order above. */
-const gtet_degeneracy *gtet_mesh_degeneracies(const gtet_mesh *mesh, size_t *stored,
-                                              uint64_t *total);
+GTET_API const gtet_degeneracy *gtet_mesh_degeneracies(const gtet_mesh *mesh, size_t *stored,
+                                                       uint64_t *total);
 
 /* Per-round record of the parallel insertion. */
 typedef struct gtet_round_stats {
@@ -258,7 +271,7 @@ typedef struct gtet_stats {
 } gtet_stats;
 
 /* Statistics of the run that built the mesh. */
-void gtet_mesh_stats(const gtet_mesh *mesh, gtet_stats *stats);
+GTET_API void gtet_mesh_stats(const gtet_mesh *mesh, gtet_stats *stats);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Exact invariant checker                                                                    */
@@ -318,8 +331,8 @@ typedef struct gtet_check_report {
  * not compared with the input).  Uses an independent exact GMP implementation of every
  * predicate.  Returns GTET_OK or GTET_ERR_CHECK_FAILED (or an allocation / argument error);
  * report may be NULL. */
-gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsigned flags,
-                       gtet_check_report *report);
+GTET_API gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsigned flags,
+                                gtet_check_report *report);
 
 /* The same checker on plain arrays, e.g. a mesh read from a file or built by another tool.
  * neighbors may be NULL (then adjacency is rebuilt and only its consistency is checked).
@@ -342,9 +355,9 @@ gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsig
  * tools that keep duplicate input points write them), facets in one or two tets on opposite
  * sides, a closed hull surface, vertex links that are spheres or disks, V - E + F - T = 1,
  * the exact volume. */
-gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t *tets,
-                              size_t nt, const uint32_t *neighbors, const double *xyz,
-                              size_t n, unsigned flags, gtet_check_report *report);
+GTET_API gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t *tets,
+                                       size_t nt, const uint32_t *neighbors, const double *xyz,
+                                       size_t n, unsigned flags, gtet_check_report *report);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Comparing two meshes of one point set                                                      */
@@ -393,10 +406,10 @@ typedef struct gtet_diff_report {
  * both pass, the tets that differ are grouped by the Delaunay cell they triangulate.  Returns
  * GTET_OK when the comparison ran (report.kind says the verdict), or an argument / memory
  * error.  Free the report's groups with gtet_diff_report_free. */
-gtet_status gtet_diff(const double *va, size_t nva, const uint32_t *ta, size_t nta,
-                      const double *vb, size_t nvb, const uint32_t *tb, size_t ntb,
-                      const double *xyz, size_t n, gtet_diff_report *report);
-void gtet_diff_report_free(gtet_diff_report *report);
+GTET_API gtet_status gtet_diff(const double *va, size_t nva, const uint32_t *ta, size_t nta,
+                               const double *vb, size_t nvb, const uint32_t *tb, size_t ntb,
+                               const double *xyz, size_t n, gtet_diff_report *report);
+GTET_API void gtet_diff_report_free(gtet_diff_report *report);
 
 #ifdef __cplusplus
 }
