@@ -251,22 +251,29 @@ int chk_orient3d(const chk_ctx *c, const double *a, const double *b, const doubl
     return s ? s : orc_orient3d(a, b, cc, d);
 }
 
+/* The filters' sign, else the oracle's exact answer `exact` (plain or perturbed: both equal
+ * the plain sign whenever it is nonzero). */
+static int insphere_with(const chk_ctx *c, const double *a, const double *b, const double *cc,
+                         const double *d, const double *e,
+                         int (*exact)(const double *, const double *, const double *,
+                                      const double *, const double *))
+{
+    if (c->flags & GTET_CHECK_NO_FILTER) return exact(a, b, cc, d, e);
+    int s = fast_insphere(a, b, cc, d, e);
+    if (s == 2) s = filter_insphere(a, b, cc, d, e);
+    return s ? s : exact(a, b, cc, d, e);
+}
+
 int chk_insphere(const chk_ctx *c, const double *a, const double *b, const double *cc,
                  const double *d, const double *e)
 {
-    if (c->flags & GTET_CHECK_NO_FILTER) return orc_insphere(a, b, cc, d, e);
-    int s = fast_insphere(a, b, cc, d, e);
-    if (s == 2) s = filter_insphere(a, b, cc, d, e);
-    return s ? s : orc_insphere(a, b, cc, d, e);
+    return insphere_with(c, a, b, cc, d, e, orc_insphere);
 }
 
 int chk_insphere_sos(const chk_ctx *c, const double *a, const double *b, const double *cc,
                      const double *d, const double *e)
 {
-    if (c->flags & GTET_CHECK_NO_FILTER) return orc_insphere_sos(a, b, cc, d, e);
-    int s = fast_insphere(a, b, cc, d, e);
-    if (s == 2) s = filter_insphere(a, b, cc, d, e);
-    return s ? s : orc_insphere_sos(a, b, cc, d, e);
+    return insphere_with(c, a, b, cc, d, e, orc_insphere_sos);
 }
 
 int chk_ghost_conflict(const chk_ctx *c, const double *a, const double *b, const double *cc,

@@ -113,6 +113,16 @@ static uint32_t apex_across(const uint32_t *T, size_t t, uint32_t u)
     return UINT32_MAX;  /* not reached after chk_facets */
 }
 
+/* Mark the violation about to be reported as a tie, with the size of its group (see
+ * chk_group_size). */
+static const gtet_check_violation *note_tie(chk_ctx *c, const uint32_t *abc, const uint32_t *abcd)
+{
+    gtet_check_violation *x = &c->report->violation;
+    x->tie = 1;
+    x->group_size = chk_group_size(c, abc, abcd);
+    return x;
+}
+
 /* The sign that decides facet f of tet t against the apex e across it: the perturbed insphere
  * (canonical mode: -1 is locally Delaunay) or the plain one (closed mode: <= 0 is). */
 static int facet_sign(const chk_ctx *c, const uint32_t *v, uint32_t e)
@@ -183,9 +193,7 @@ gtet_status chk_delaunay(chk_ctx *c)
     chk_outward_facet(v, f, o);
     chk_note(c, t, u, 5, five);
     if (!c->closed && chk_insphere(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]), P(e)) == 0) {
-        gtet_check_violation *x = &c->report->violation;
-        x->tie = 1;
-        x->group_size = chk_group_size(c, NULL, v);
+        const gtet_check_violation *x = note_tie(c, NULL, v);
         return chk_fail(c, "facet (%u %u %u) between tets %zu and %u is not locally Delaunay in "
                         "the canonical sense, a tie broken against the symbolic perturbation: "
                         "vertex %u of tet %u is exactly on the circumsphere of tet %zu (%u %u %u "
@@ -231,9 +239,7 @@ gtet_status chk_hull_convex(chk_ctx *c)
                 uint32_t four[4] = {a[0], a[1], a[2], x};
                 chk_note(c, c->hull_tf[h] / 4, c->hull_tf[hb] / 4, 4, four);
                 if (!c->closed && chk_orient3d(c, P(a[0]), P(a[1]), P(a[2]), P(x)) == 0) {
-                    gtet_check_violation *v = &c->report->violation;
-                    v->tie = 1;
-                    v->group_size = chk_group_size(c, a, NULL);
+                    const gtet_check_violation *v = note_tie(c, a, NULL);
                     return chk_fail(c, "the hull is not convex in the canonical sense at edge "
                                     "(%u %u), a tie broken against the symbolic perturbation: "
                                     "hull facets (%u %u %u) and (%u %u %u) are coplanar, in a "
