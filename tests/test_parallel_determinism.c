@@ -287,7 +287,7 @@ static void test_points_sharing_one_moore_key_give_the_same_tets_in_parallel(voi
     free(p);
 }
 
-/* Duplicates on every thread count (src/kernel/validate.c: a serial pass below 2^17 points,
+/* Duplicates on every thread count (src/validate/validate.c: a serial pass below 2^17 points,
  * a parallel table of first occurrences above): 3000 distinct points of a small lattice with
  * zero coordinates, each copied about 60 times in random order, some zeros written as -0.0
  * (equal to +0.0, so duplicates).  The vertices (bit for bit: the first occurrence's sign of
