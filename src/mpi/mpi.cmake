@@ -34,6 +34,12 @@ if(BUILD_TESTING AND EXISTS ${PROJECT_SOURCE_DIR}/tests/mpi/run_tests.sh)
                        ${PROJECT_BINARY_DIR}/mpi-tests ${GTET_MPIEXEC}
                        $<TARGET_FILE:test_mpi_api>)
       set_tests_properties(mpi_${_t} PROPERTIES TIMEOUT 300 LABELS mpi)
+      if(GTET_SANITIZE)
+        # Open MPI's plugins are unloaded at exit with allocations LeakSanitizer reports from
+        # unknown modules (no suppression can name them); ASan's memory errors and UBSan stay
+        # on, and gigatet's own leaks are caught by the non-MPI tests
+        set_tests_properties(mpi_${_t} PROPERTIES ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+      endif()
     endforeach()
   endif()
   add_executable(test_mpi_api ${PROJECT_SOURCE_DIR}/tests/mpi/test_mpi_api.c)

@@ -199,7 +199,7 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
             size_t tot;
             if ((s = mx_exchange(&c, ub, uc, sizeof *ub, &rr, ur, &tot, 0)) == GTET_OK) {
                 uint64_t *ids = rr;
-                qsort(ids, tot, sizeof *ids, cmp_u64);
+                mpi_sort(ids, tot, sizeof *ids, cmp_u64);
                 uint64_t distinct = 0, all = 0;
                 for (size_t i = 0; i < tot; i++) distinct += i == 0 || ids[i] != ids[i - 1];
                 free(ids);

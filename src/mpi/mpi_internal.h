@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 #include "gigatet_mpi.h"
 
@@ -49,5 +50,12 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
                         void **rbuf, size_t *rcnt, size_t *rtot, int ghost);
 
 double mx_now(void);
+
+/* qsort of n elements; nothing at all for n < 2, so an empty array may be NULL (the C library's
+ * qsort requires a valid pointer even for n == 0). */
+static inline void mpi_sort(void *p, size_t n, size_t size, int (*cmp)(const void *, const void *))
+{
+    if (n > 1) qsort(p, n, size, cmp);
+}
 
 #endif

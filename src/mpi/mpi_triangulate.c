@@ -199,7 +199,7 @@ static gtet_status step_validate(run *R)
             sorted[2 * k + 1] = fa[2 * q + 1];
             k++;
         }
-    qsort(sorted, (size_t)k, 2 * sizeof(uint64_t), cmp_range);
+    mpi_sort(sorted, (size_t)k, 2 * sizeof(uint64_t), cmp_range);
     uint64_t at = 0;
     for (int i = 0; i < k; i++) {
         if (sorted[2 * i] != at) {
@@ -307,7 +307,7 @@ static gtet_status step_dedup(run *R)
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
     for (size_t k = 0; k < m; k++) ord[k] = k;
     g_sort_recs = rb;
-    qsort(ord, m, sizeof *ord, cmp_rec_idx);
+    mpi_sort(ord, m, sizeof *ord, cmp_rec_idx);
     /* each record learns its group's first occurrence */
     for (size_t a = 0; a < m;) {
         size_t b = a + 1;
@@ -487,7 +487,7 @@ static int kd_build(run *R, double *smp, size_t ns, int lo, int hi)
         if (ns && mx[k] - mn[k] > mx[axis] - mn[axis]) axis = k;
     int kl = (hi - lo) / 2;
     g_axis = axis;
-    qsort(smp, ns, 3 * sizeof(double), cmp_axis);
+    mpi_sort(smp, ns, 3 * sizeof(double), cmp_axis);
     size_t at = (size_t)((double)ns * kl / (hi - lo));
     double split = ns ? smp[3 * (at < ns ? at : ns - 1) + axis] : 0.0;
     size_t j = 0;
@@ -1145,7 +1145,7 @@ static gtet_status make_queries(run *R, vec *out)
             }
         }
     }
-    qsort(keys.p, keys.n, keys.rs, cmp_key4);
+    mpi_sort(keys.p, keys.n, keys.rs, cmp_key4);
     free(R->prev);
     R->prev = (uint64_t(*)[4])keys.p;
     R->nprev = keys.n;
@@ -1336,7 +1336,7 @@ static gtet_status step_output(run *R, gtet_mpi_result *res)
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
     for (size_t k = 0; k < mr; k++) ord[k] = k;
     g_frecs = rb;
-    qsort(ord, mr, sizeof *ord, cmp_frec_idx);
+    mpi_sort(ord, mr, sizeof *ord, cmp_frec_idx);
     for (size_t a = 0; a < mr && s == GTET_OK;) {
         size_t b = a + 1;
         while (b < mr && !memcmp(rb[ord[a]].key, rb[ord[b]].key, sizeof rb[0].key)) b++;
@@ -1402,7 +1402,7 @@ static gtet_status step_output(run *R, gtet_mpi_result *res)
             lst[w].id = R->sp[i].id;
             w++;
         }
-    qsort(lst, w, sizeof *lst, cmp_mpt_id);
+    mpi_sort(lst, w, sizeof *lst, cmp_mpt_id);
     res->num_used_vertices = w;
     res->used_vertex_ids = used;
     res->used_vertices = mx_malloc((3 * w + 1) * sizeof *res->used_vertices);
