@@ -160,8 +160,9 @@ typedef struct gtet_options {
     int degeneracies;
     /* Records stored at most when recording (their total count stays exact); default 100000. */
     size_t degeneracy_limit;
-    /* When not NULL, polled on the calling thread between BRIO rounds (outside the parallel
-     * regions); a nonzero return stops the run: GTET_ERR_CANCELLED, no mesh.  (The Python
+    /* When not NULL, polled on the calling thread (outside the parallel regions) before each
+     * BRIO round, before each parallel pass of a round, and every 65536 points of a pass on
+     * one thread; a nonzero return stops the run: GTET_ERR_CANCELLED, no mesh.  (The Python
      * module turns Ctrl-C into KeyboardInterrupt through it.) */
     int (*cancel)(void *user);
     void *cancel_user;

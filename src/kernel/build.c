@@ -188,6 +188,8 @@ static gtet_status kbuild_rounds(kbuild *b)
     const kbuild_in *in = b->in;
     b->P.progress = in->progress;
     b->P.progress_user = in->progress_user;
+    b->P.cancel = in->cancel;
+    b->P.cancel_user = in->cancel_user;
     b->P.total = b->nv;
     b->P.done = 4;
     for (int k = 0; k < in->num_rounds; k++) {

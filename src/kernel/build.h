@@ -30,7 +30,8 @@ typedef struct kbuild_in {
     void (*round_done)(void *user, int round, int num_rounds, const gtet_round_stats *rs,
                        double seconds);
     void *round_user;
-    /* gtet_options.cancel: polled before each round; nonzero stops with GTET_ERR_CANCELLED */
+    /* gtet_options.cancel: polled before each round and pass, and every 65536 points of a
+     * serial pass (kpar); nonzero stops with GTET_ERR_CANCELLED */
     int (*cancel)(void *user);
     void *cancel_user;
 } kbuild_in;

@@ -147,8 +147,11 @@ static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np)
         gtet_status s = km_insert(c, pts[i], &deferred);
         if (s != GTET_OK) return s;
         if (deferred) return GTET_ERR_INTERNAL;  /* serial insertion never defers */
-        if (P->progress && ((P->done + i) & 0xffff) == 0)
-            P->progress(P->progress_user, (double)(P->done + i) / (double)P->total);
+        if (((P->done + i) & 0xffff) == 0) {
+            if (P->progress)
+                P->progress(P->progress_user, (double)(P->done + i) / (double)P->total);
+            if (P->cancel && P->cancel(P->cancel_user)) return GTET_ERR_CANCELLED;
+        }
     }
     P->done += np;
     return GTET_OK;
@@ -417,6 +420,7 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
     while (np > 0) {
         while (nth > 1 && np < (size_t)nth * MIN_PER_THREAD) nth /= 2;
         if (pass > 1 && np < nmesh / SERIAL_TAIL) nth = 1;
+        if (P->cancel && P->cancel(P->cancel_user)) return GTET_ERR_CANCELLED;
         rs->passes++;
         if (nth > rs->threads) rs->threads = nth;  /* the most threads any pass used */
         if (nth <= 1) {

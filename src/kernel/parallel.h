@@ -26,6 +26,11 @@ typedef struct kpar {
     void (*progress)(void *user, double fraction);
     void *progress_user;
     size_t done, total;
+    /* gtet_options.cancel, polled from the calling thread before each pass and every 65536
+     * points of a serial pass; nonzero stops the round with GTET_ERR_CANCELLED (the mesh is
+     * left mid-round, and kbuild_release frees it whole) */
+    int (*cancel)(void *user);
+    void *cancel_user;
 } kpar;
 
 #define KPAR_KEY_MASK ((UINT64_C(1) << 63) - 1)  /* 63-bit Moore keys, 21 bits per axis */
