@@ -4,7 +4,8 @@
  * class gigatet.Delaunay (python/gigatet/__init__.py) wraps it under scipy's names.
  *
  *   triangulate(points, threads, check) -> Mesh   the GIL is released while the kernel runs;
- *       SIGINT (KeyboardInterrupt) is polled through gtet_options.cancel between passes.
+ *       SIGINT (KeyboardInterrupt) is polled through gtet_options.cancel before each pass
+ *       and every 65536 points of a one-thread pass.
  *   Mesh.views() -> (vertices, tets, neighbors, input_map): read-only numpy arrays over the
  *       mesh's own memory (zero-copy; their base is the Mesh, which keeps the memory alive).
  *   Mesh.simplices(), neighbors(), vertex_to_simplex(), convex_hull(),
