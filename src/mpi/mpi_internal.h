@@ -7,6 +7,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "gigatet.h"
+
 #include "gigatet_mpi.h"
 
 /* A point with its global vertex id (or, before the ids exist, its global input index). */
@@ -57,5 +59,107 @@ static inline void mpi_sort(void *p, size_t n, size_t size, int (*cmp)(const voi
 {
     if (n > 1) qsort(p, n, size, cmp);
 }
+
+/* ------------------------------------------------------------------------------------------ */
+/* gtet_triangulate_mpi's run, shared by its steps (mpi_ids.c, mpi_partition.c, mpi_ghosts.c,  */
+/* mpi_query.c, mpi_output.c; the entry in mpi_triangulate.c)                                 */
+/* ------------------------------------------------------------------------------------------ */
+
+#define NOID UINT64_MAX
+
+/* open-addressing set of uint64 keys (NOID is the empty slot) */
+typedef struct hset {
+    uint64_t *k;
+    size_t cap, n;
+} hset;
+
+/* growable byte vector of fixed-size records */
+typedef struct vec {
+    unsigned char *p;
+    size_t n, cap, rs;
+} vec;
+
+typedef struct grid {
+    double lo[3], hi[3], inv[3];
+    int g[3];
+    int b[3];                   /* blocks of GB^3 cells, for halfspace queries */
+    uint32_t *start;            /* cells + 1 */
+    uint32_t *idx;              /* tile point indices by cell */
+} grid;
+#define GB 4
+
+typedef struct run {
+    mctx c;
+    gtet_options lopt;          /* the local triangulations' options */
+    const double *xyz;
+    size_t n;
+    uint64_t first, N;
+    uint64_t *firsts_all;       /* 2 per rank: first index, count */
+    uint64_t *imap;
+    mpt *fp;                    /* this rank's first occurrences (distinct), id = vertex id */
+    size_t nf;
+    uint64_t V;
+    mpt seed[4];                /* smallest affinely independent simplex */
+    int seed_rank[4];           /* the tile each seed lives in */
+    /* kd tree */
+    struct kdn { int axis, left, right, leaf; double split; } *kd;
+    int nkd;
+    /* tile and the tiles' boxes */
+    mpt *tile;
+    size_t m;
+    double *box;                /* 6 per rank: lo, hi */
+    uint64_t *tcount;           /* per rank */
+    /* the local set S: tile points first, then ghosts */
+    mpt *sp;
+    int *sown;
+    size_t ns, scap;
+    hset have;                  /* vertex ids in S */
+    hset sent;                  /* tile index * P + rank: sent to that rank */
+    grid gr;
+    gtet_mesh *mesh;
+    /* keys of the previous round's queried tets / hull facets, sorted */
+    uint64_t (*prev)[4];
+    size_t nprev;
+} run;
+
+typedef struct ball {
+    double c[3], r;   /* every point of the exact closed circumball is within r of c */
+    int all;          /* ill-conditioned or out of range: assume it meets everything */
+} ball;
+
+/* a conflict query: a tet (4 points, positively oriented) or a hull facet (3 points in
+ * ghost order, id[3] == NOID) */
+typedef struct query {
+    double p[4][3];
+    uint64_t id[4];
+} query;
+
+/* containers (mpi_util.c) */
+uint64_t mx_mix64(uint64_t x);
+int mx_hs_grow(hset *h, size_t cap);          /* 0, or -1 out of memory */
+int mx_hs_add(hset *h, uint64_t key);         /* 1 inserted, 0 present, -1 out of memory */
+void *mx_vec_push(vec *v);                    /* room for one more record, or NULL */
+
+/* the steps, in order; each returns this rank's status (the caller agrees on it) */
+gtet_status mx_step_validate(run *R);                     /* 1: ranges, NaN/Inf */
+gtet_status mx_step_dedup(run *R);                        /* 2: duplicates, vertex ids (D1) */
+gtet_status mx_step_dimension(run *R);                    /* 3: R->seed, or degenerate */
+gtet_status mx_step_partition(run *R);                    /* 4: kd tiles, R->tile, boxes */
+gtet_status mx_step_seed(run *R, double layer);           /* 5: S = tile + seeded ghosts */
+gtet_status mx_step_rounds(run *R);                       /* 6: rounds until no new point */
+gtet_status mx_step_output(run *R, gtet_mpi_result *res); /* 7: owned tets, neighbours */
+
+/* query geometry and answers (mpi_query.c, proofs/distributed.md D4) */
+void mx_tet_ball(const double *a, const double *b, const double *cc, const double *d, ball *B);
+int mx_ball_meets_box(const ball *B, const double *box);
+/* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box? */
+int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
+                           const double *box);
+gtet_status mx_grid_build(run *R);            /* the tile's grid of cells, R->gr */
+/* append to out (mpt records) the tile points in conflict with Q not sent to rank `to`
+ * before, and mark them sent */
+gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
+
+void mx_sort4(uint64_t *k);                   /* 4 ids ascending (mpi_ghosts.c) */
 
 #endif

@@ -1,7 +1,8 @@
-/* mpi_util.c -- error agreement, all-to-all exchanges and the allocation hook of the
- * distributed mode.  Every collective error path goes through mx_agree, so a failure on one
- * rank makes every rank leave the same step with the same status: no rank waits in a
- * collective another rank never enters. */
+/* mpi_util.c -- error agreement, all-to-all exchanges, the allocation hook and the small
+ * containers (a hash set of ids, a growable record vector) of the distributed mode.  Every
+ * collective error path goes through mx_agree, so a failure on one rank makes every rank leave
+ * the same step with the same status: no rank waits in a collective another rank never
+ * enters. */
 #define _POSIX_C_SOURCE 200809L
 #include <limits.h>
 #include <stdarg.h>
@@ -136,4 +137,60 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
     *rbuf = buf;
     *rtot = rt;
     return GTET_OK;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* small containers                                                                           */
+/* ------------------------------------------------------------------------------------------ */
+
+uint64_t mx_mix64(uint64_t x)
+{
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+int mx_hs_grow(hset *h, size_t cap)
+{
+    uint64_t *k = mx_malloc(cap * sizeof *k);
+    if (!k) return -1;
+    memset(k, 0xff, cap * sizeof *k);
+    for (size_t i = 0; i < h->cap; i++) {
+        uint64_t key = h->k[i];
+        if (key == NOID) continue;
+        size_t j = (size_t)mx_mix64(key) & (cap - 1);
+        while (k[j] != NOID) j = (j + 1) & (cap - 1);
+        k[j] = key;
+    }
+    free(h->k);
+    h->k = k;
+    h->cap = cap;
+    return 0;
+}
+
+/* 1 inserted, 0 present, -1 out of memory */
+int mx_hs_add(hset *h, uint64_t key)
+{
+    if (2 * (h->n + 1) > h->cap && mx_hs_grow(h, h->cap ? 2 * h->cap : 64) != 0) return -1;
+    size_t j = (size_t)mx_mix64(key) & (h->cap - 1);
+    while (h->k[j] != NOID) {
+        if (h->k[j] == key) return 0;
+        j = (j + 1) & (h->cap - 1);
+    }
+    h->k[j] = key;
+    h->n++;
+    return 1;
+}
+
+void *mx_vec_push(vec *v)
+{
+    if (v->n == v->cap) {
+        size_t cap = v->cap ? 2 * v->cap : 16;
+        unsigned char *p = mx_realloc(v->p, cap * v->rs);
+        if (!p) return NULL;
+        v->p = p;
+        v->cap = cap;
+    }
+    return v->p + v->rs * v->n++;
 }

@@ -1,0 +1,354 @@
+/* mpi_ghosts.c -- steps 5-6 of gtet_triangulate_mpi: the local set S (tile points, then
+ * ghosts) and its triangulation, the seeded ghost layer, and the rounds of conflict queries
+ * until no rank receives a new point (proofs/distributed.md D3, D5, D8). */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpi/mpi_internal.h"
+
+/* ------------------------------------------------------------------------------------------ */
+/* the local set S and its triangulation                                                      */
+/* ------------------------------------------------------------------------------------------ */
+
+/* add a point of rank `owner` to S unless present; returns 1 added, 0 present, -1 OOM */
+static int s_add(run *R, const mpt *p, int owner)
+{
+    int a = mx_hs_add(&R->have, p->id);
+    if (a <= 0) return a;
+    if (R->ns == R->scap) {
+        size_t cap = R->scap ? 2 * R->scap : 1024;
+        mpt *sp = mx_realloc(R->sp, cap * sizeof *sp);
+        if (!sp) return -1;
+        R->sp = sp;
+        int *so = mx_realloc(R->sown, cap * sizeof *so);
+        if (!so) return -1;
+        R->sown = so;
+        R->scap = cap;
+    }
+    R->sp[R->ns] = *p;
+    R->sown[R->ns] = owner;
+    R->ns++;
+    return 1;
+}
+
+/* add received points (from an exchange with counts rcnt); returns the number new */
+static gtet_status s_add_received(run *R, const mpt *rb, const size_t *rcnt, uint64_t *added)
+{
+    size_t k = 0;
+    *added = 0;
+    for (int q = 0; q < R->c.size; q++)
+        for (size_t i = 0; i < rcnt[q]; i++, k++) {
+            int a = s_add(R, &rb[k], q);
+            if (a < 0) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+            *added += (uint64_t)a;
+        }
+    return GTET_OK;
+}
+
+static gtet_status triangulate_local(run *R)
+{
+    gtet_mesh_free(&R->mesh);
+    if (R->m == 0) return GTET_OK;
+    for (int attempt = 0; attempt < 2; attempt++) {
+        double *xyz = mx_malloc(3 * R->ns * sizeof *xyz);
+        if (!xyz) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+        for (size_t i = 0; i < R->ns; i++) memcpy(xyz + 3 * i, R->sp[i].x, 3 * sizeof(double));
+        gtet_error e;
+        memset(&e, 0, sizeof e);
+        gtet_options o = R->lopt;
+        o.error = &e;
+        gtet_status s = gtet_triangulate(xyz, R->ns, &o, &R->mesh);
+        free(xyz);
+        if (s == GTET_ERR_DEGENERATE_INPUT && attempt == 0) {
+            /* the tile with its ghosts is flat or tiny: add the global simplex (D5) */
+            for (int k = 0; k < 4; k++)
+                if (s_add(R, &R->seed[k], R->seed_rank[k]) < 0)
+                    return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+            continue;
+        }
+        if (s != GTET_OK)
+            return mx_fail(&R->c, s, "rank %d: local triangulation of %zu points: %s", R->c.rank,
+                           R->ns, e.message);
+        size_t nv = gtet_mesh_num_vertices(R->mesh);
+        const uint32_t *map = gtet_mesh_input_map(R->mesh);
+        if (nv != R->ns)
+            return mx_fail(&R->c, GTET_ERR_INTERNAL, "rank %d: distinct points merged locally",
+                           R->c.rank);
+        for (size_t i = 0; i < R->ns; i++)
+            if (map[i] != i)
+                return mx_fail(&R->c, GTET_ERR_INTERNAL, "rank %d: local vertex order differs",
+                               R->c.rank);
+        return GTET_OK;
+    }
+    return mx_fail(&R->c, GTET_ERR_INTERNAL, "rank %d: degenerate local set with the simplex",
+                   R->c.rank);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* 5. ghost seeding, 6. rounds                                                                */
+/* ------------------------------------------------------------------------------------------ */
+
+static double box_dist(const double *box, const double *x)
+{
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = fmax(box[k] - x[k], fmax(0.0, x[k] - box[3 + k]));
+        d2 += e * e;
+    }
+    return sqrt(d2);
+}
+
+static gtet_status exchange_vecs(run *R, vec *out, size_t rs, void **rb, size_t *rcnt,
+                                 size_t *rtot)
+{
+    int P = R->c.size;
+    size_t tot = 0;
+    for (int q = 0; q < P; q++) tot += out[q].n;
+    size_t *scnt = mx_malloc((size_t)P * sizeof *scnt);
+    unsigned char *sb = mx_malloc(tot * rs);
+    gtet_status s = (scnt && sb) ? GTET_OK : mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
+                                                     "out of memory");
+    if ((s = mx_agree(&R->c, s)) == GTET_OK) {
+        size_t at = 0;
+        for (int q = 0; q < P; q++) {
+            if (out[q].n) memcpy(sb + at * rs, out[q].p, out[q].n * rs);
+            at += out[q].n;
+            scnt[q] = out[q].n;
+        }
+        s = mx_exchange(&R->c, sb, scnt, rs, rb, rcnt, rtot, 1);
+    }
+    free(scnt);
+    free(sb);
+    for (int q = 0; q < P; q++) {
+        free(out[q].p);
+        out[q].p = NULL;
+        out[q].n = out[q].cap = 0;
+    }
+    return s;
+}
+
+gtet_status mx_step_seed(run *R, double layer)
+{
+    int P = R->c.size, me = R->c.rank;
+    vec *out = mx_calloc((size_t)P, sizeof *out);
+    size_t *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
+    gtet_status s = (out && rcnt) ? GTET_OK : mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
+                                                      "out of memory");
+    if (s == GTET_OK && R->m) {
+        /* room for the tile and a ghost layer up front: no rehashing, fewer page faults */
+        size_t want = R->m + R->m / 4 + 64, cap = 64;
+        while (cap < 2 * want) cap *= 2;
+        mpt *sp = mx_malloc(want * sizeof *sp);
+        int *so = mx_malloc(want * sizeof *so);
+        if (!sp || !so || mx_hs_grow(&R->have, cap) != 0) {
+            free(sp);
+            free(so);
+            s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+        } else {
+            R->sp = sp;
+            R->sown = so;
+            R->scap = want;
+        }
+    }
+    if (s == GTET_OK)
+        for (size_t i = 0; i < R->m && s == GTET_OK; i++)
+            if (s_add(R, &R->tile[i], me) < 0)
+                s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if (s == GTET_OK) s = mx_grid_build(R);
+    if (s == GTET_OK && R->m) {
+        /* the layer: `layer` times the tile's mean spacing */
+        const double *bx = R->box + 6 * me;
+        double vol = 1, emax = 0;
+        for (int k = 0; k < 3; k++) emax = fmax(emax, bx[3 + k] - bx[k]);
+        for (int k = 0; k < 3; k++) vol *= fmax(bx[3 + k] - bx[k], emax * 1e-3);
+        double delta = layer * cbrt(vol / (double)R->m);
+        if (!isfinite(delta)) delta = 0;
+        for (int q = 0; q < P; q++) out[q].rs = sizeof(mpt);
+        for (size_t i = 0; i < R->m && s == GTET_OK; i++)
+            for (int q = 0; q < P; q++) {
+                if (q == me || R->tcount[q] == 0) continue;
+                if (box_dist(R->box + 6 * q, R->tile[i].x) > delta) continue;
+                mpt *o = mx_vec_push(&out[q]);
+                if (!o || mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)P + (uint64_t)q) < 0) {
+                    s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+                    break;
+                }
+                *o = R->tile[i];
+            }
+    }
+    if ((s = mx_agree(&R->c, s)) != GTET_OK) {
+        if (out)
+            for (int q = 0; q < P; q++) free(out[q].p);
+        free(out);
+        free(rcnt);
+        return s;
+    }
+    void *rb;
+    size_t rt;
+    s = exchange_vecs(R, out, sizeof(mpt), &rb, rcnt, &rt);
+    if (s == GTET_OK) {
+        uint64_t added;
+        s = s_add_received(R, rb, rcnt, &added);
+        R->c.st->ghost_seeded = added;
+        free(rb);
+    }
+    free(out);
+    free(rcnt);
+    return mx_agree(&R->c, s);
+}
+
+static int cmp_key4(const void *a, const void *b)
+{
+    const uint64_t *x = a, *y = b;
+    for (int k = 0; k < 4; k++)
+        if (x[k] != y[k]) return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+
+void mx_sort4(uint64_t *k)
+{
+    for (int i = 1; i < 4; i++)
+        for (int j = i; j > 0 && k[j - 1] > k[j]; j--) {
+            uint64_t t = k[j];
+            k[j] = k[j - 1];
+            k[j - 1] = t;
+        }
+}
+
+/* ghost order of the facet opposite f of local tet t: orient3d(a,b,c,apex) < 0 */
+static void hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3])
+{
+    int j = 0;
+    for (int i = 0; i < 4; i++)
+        if (i != f) out[j++] = tv[i];
+    if (gtet_orient3d(R->sp[out[0]].x, R->sp[out[1]].x, R->sp[out[2]].x, R->sp[tv[f]].x) > 0) {
+        uint32_t t = out[1];
+        out[1] = out[2];
+        out[2] = t;
+    }
+}
+
+/* one round's queries: new tets / hull facets with a tile vertex, to every rank whose box
+ * they may reach; returns them per rank in out[], and the round's queried keys in R->prev */
+static gtet_status make_queries(run *R, vec *out)
+{
+    int P = R->c.size, me = R->c.rank;
+    for (int q = 0; q < P; q++) out[q].rs = sizeof(query);
+    if (!R->mesh) {
+        free(R->prev);
+        R->prev = NULL;
+        R->nprev = 0;
+        return GTET_OK;
+    }
+    size_t nt = gtet_mesh_num_tets(R->mesh);
+    const uint32_t *tv = gtet_mesh_tets(R->mesh), *nb = gtet_mesh_neighbors(R->mesh);
+    vec keys = {NULL, 0, 0, 4 * sizeof(uint64_t)};
+    size_t m = R->m;
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *v = tv + 4 * t;
+        if (v[0] >= m && v[1] >= m && v[2] >= m && v[3] >= m) continue;
+        /* the tet */
+        for (int pass = 0; pass < 5; pass++) {
+            query Q;
+            uint64_t key[4];
+            if (pass == 0) {
+                for (int i = 0; i < 4; i++) {
+                    memcpy(Q.p[i], R->sp[v[i]].x, sizeof Q.p[i]);
+                    Q.id[i] = key[i] = R->sp[v[i]].id;
+                }
+            } else {
+                int f = pass - 1;
+                if (nb[4 * t + f] != GTET_NO_TET) continue;
+                uint32_t h[3];
+                hull_facet(R, v, f, h);
+                if (h[0] >= m && h[1] >= m && h[2] >= m) continue;
+                for (int i = 0; i < 3; i++) {
+                    memcpy(Q.p[i], R->sp[h[i]].x, sizeof Q.p[i]);
+                    Q.id[i] = key[i] = R->sp[h[i]].id;
+                }
+                memset(Q.p[3], 0, sizeof Q.p[3]);
+                Q.id[3] = key[3] = NOID;
+            }
+            ball B;
+            if (pass == 0) mx_tet_ball(Q.p[0], Q.p[1], Q.p[2], Q.p[3], &B);
+            int any = 0;
+            for (int q = 0; q < P; q++) {
+                if (q == me || R->tcount[q] == 0) continue;
+                const double *bx = R->box + 6 * q;
+                if (pass == 0 ? !mx_ball_meets_box(&B, bx)
+                              : !mx_halfspace_meets_box(Q.p[0], Q.p[1], Q.p[2], bx))
+                    continue;
+                if (!any) {
+                    any = 1;
+                    mx_sort4(key);
+                    uint64_t *kk = mx_vec_push(&keys);
+                    if (!kk) goto oom;
+                    memcpy(kk, key, sizeof key);
+                    /* queried in the previous round and still here: certified (D3) */
+                    if (R->prev && bsearch(key, R->prev, R->nprev, sizeof *R->prev, cmp_key4))
+                        break;
+                }
+                query *o = mx_vec_push(&out[q]);
+                if (!o) goto oom;
+                *o = Q;
+                R->c.st->queries_sent++;
+            }
+        }
+    }
+    mpi_sort(keys.p, keys.n, keys.rs, cmp_key4);
+    free(R->prev);
+    R->prev = (uint64_t(*)[4])keys.p;
+    R->nprev = keys.n;
+    return GTET_OK;
+oom:
+    free(keys.p);
+    return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+}
+
+gtet_status mx_step_rounds(run *R)
+{
+    int P = R->c.size;
+    gtet_status s = GTET_OK;
+    vec *out = mx_calloc((size_t)P, sizeof *out);
+    size_t *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
+    if (!out || !rcnt) s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
+    for (int round = 1;; round++) {
+        double t0 = mx_now();
+        s = triangulate_local(R);
+        R->c.st->rounds = round;
+        R->c.st->seconds_triangulate += mx_now() - t0;
+        if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
+        t0 = mx_now();
+        s = make_queries(R, out);
+        if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
+        void *rb;
+        size_t rt;
+        if ((s = exchange_vecs(R, out, sizeof(query), &rb, rcnt, &rt)) != GTET_OK) goto done;
+        /* answer every query with this tile's conflicting points not sent before */
+        const query *qs = rb;
+        for (int q = 0; q < P; q++) out[q].rs = sizeof(mpt);
+        size_t k = 0;
+        for (int q = 0; q < P && s == GTET_OK; q++)
+            for (size_t i = 0; i < rcnt[q] && s == GTET_OK; i++, k++)
+                s = mx_answer(R, &qs[k], q, &out[q]);
+        free(rb);
+        if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
+        if ((s = exchange_vecs(R, out, sizeof(mpt), &rb, rcnt, &rt)) != GTET_OK) goto done;
+        uint64_t added = 0, gadded = 0;
+        s = s_add_received(R, rb, rcnt, &added);
+        free(rb);
+        if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
+        MPI_Allreduce(&added, &gadded, 1, MPI_UINT64_T, MPI_SUM, R->c.comm);
+        R->c.st->seconds_exchange += mx_now() - t0;
+        if (gadded == 0) break;   /* every queried tet is certified: S is final (D3) */
+    }
+done:
+    if (out)
+        for (int q = 0; q < P; q++) free(out[q].p);
+    free(out);
+    free(rcnt);
+    return s;
+}

@@ -1,0 +1,312 @@
+/* mpi_ids.c -- steps 1-3 of gtet_triangulate_mpi: the input index ranges and a NaN/Inf
+ * anywhere (validation), duplicates across ranks and the global vertex ids (D1 of
+ * proofs/distributed.md), the smallest-id affinely independent simplex (dimension). */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpi/mpi_internal.h"
+
+/* ------------------------------------------------------------------------------------------ */
+/* 1. validation                                                                              */
+/* ------------------------------------------------------------------------------------------ */
+
+static int cmp_range(const void *a, const void *b)
+{
+    const uint64_t *x = a, *y = b;
+    return x[0] < y[0] ? -1 : x[0] > y[0];
+}
+
+gtet_status mx_step_validate(run *R)
+{
+    mctx *c = &R->c;
+    int P = c->size;
+    gtet_status s = GTET_OK;
+    uint64_t mine[2] = {R->first, (uint64_t)R->n};
+    R->firsts_all = mx_malloc(2 * (size_t)P * sizeof(uint64_t));
+    uint64_t *sorted = mx_malloc(2 * (size_t)P * sizeof(uint64_t));
+    if (!R->firsts_all || !sorted) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) != GTET_OK) {
+        free(sorted);
+        return s;
+    }
+    MPI_Allgather(mine, 2, MPI_UINT64_T, R->firsts_all, 2, MPI_UINT64_T, c->comm);
+    uint64_t *fa = R->firsts_all;
+    int nauto = 0;
+    for (int q = 0; q < P; q++) nauto += fa[2 * q] == GTET_MPI_AUTO_INDEX;
+    if (nauto != 0 && nauto != P) {
+        free(sorted);
+        return mx_fail(c, GTET_ERR_ARGUMENT, "first_index is GTET_MPI_AUTO_INDEX on %d of %d "
+                       "ranks: give it on all of them or on none", nauto, P);
+    }
+    uint64_t tot = 0;
+    for (int q = 0; q < P; q++) {
+        if (nauto) fa[2 * q] = tot;
+        if (fa[2 * q + 1] > UINT64_MAX / 2 - tot) {
+            free(sorted);
+            return mx_fail(c, GTET_ERR_TOO_LARGE, "too many points in all");
+        }
+        tot += fa[2 * q + 1];
+    }
+    R->N = tot;
+    R->first = fa[2 * c->rank];
+    /* the nonempty ranges must tile [0, N) */
+    int k = 0;
+    for (int q = 0; q < P; q++)
+        if (fa[2 * q + 1]) {
+            sorted[2 * k] = fa[2 * q];
+            sorted[2 * k + 1] = fa[2 * q + 1];
+            k++;
+        }
+    mpi_sort(sorted, (size_t)k, 2 * sizeof(uint64_t), cmp_range);
+    uint64_t at = 0;
+    for (int i = 0; i < k; i++) {
+        if (sorted[2 * i] != at) {
+            free(sorted);
+            return mx_fail(c, GTET_ERR_ARGUMENT, "the ranks' input index ranges do not tile "
+                           "[0, %llu): a gap or an overlap at index %llu",
+                           (unsigned long long)tot, (unsigned long long)at);
+        }
+        at += sorted[2 * i + 1];
+    }
+    free(sorted);
+    /* a NaN or Inf anywhere: every rank names the smallest global index */
+    uint64_t bad = NOID, gbad = NOID;
+    for (size_t i = 0; i < R->n; i++)
+        if (!isfinite(R->xyz[3 * i]) || !isfinite(R->xyz[3 * i + 1]) ||
+            !isfinite(R->xyz[3 * i + 2])) {
+            bad = R->first + i;
+            break;
+        }
+    MPI_Allreduce(&bad, &gbad, 1, MPI_UINT64_T, MPI_MIN, c->comm);
+    if (gbad != NOID) {
+        c->err.index = (size_t)gbad;
+        return mx_fail(c, GTET_ERR_NONFINITE,
+                       "input point %llu has a non-finite coordinate (NaN or infinity)",
+                       (unsigned long long)gbad);
+    }
+    if (tot == 0) {
+        c->err.dimension = -1;
+        return mx_fail(c, GTET_ERR_DEGENERATE_INPUT, "no input points on any rank");
+    }
+    return GTET_OK;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* 2. duplicates and global vertex ids                                                        */
+/* ------------------------------------------------------------------------------------------ */
+
+static int point_lt(const double *a, const double *b)
+{
+    for (int k = 0; k < 3; k++) {
+        if (a[k] < b[k]) return -1;
+        if (a[k] > b[k]) return 1;
+    }
+    return 0;   /* equal, -0.0 == +0.0 */
+}
+
+static const mpt *g_sort_recs;
+static int cmp_rec_idx(const void *a, const void *b)
+{
+    const mpt *x = g_sort_recs + *(const size_t *)a, *y = g_sort_recs + *(const size_t *)b;
+    int s = point_lt(x->x, y->x);
+    if (s) return s;
+    return x->id < y->id ? -1 : x->id > y->id;
+}
+
+static int hash_rank(const double *x, int P)
+{
+    uint64_t h = 0x1234567ull;
+    for (int k = 0; k < 3; k++) {
+        double v = x[k] + 0.0;   /* -0.0 -> +0.0: equal points hash alike */
+        uint64_t b;
+        memcpy(&b, &v, 8);
+        h = mx_mix64(h ^ b);
+    }
+    return (int)(h % (uint64_t)P);
+}
+
+gtet_status mx_step_dedup(run *R)
+{
+    mctx *c = &R->c;
+    int P = c->size;
+    size_t n = R->n;
+    gtet_status s = GTET_OK;
+    size_t *scnt = mx_calloc((size_t)P, sizeof *scnt), *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
+    size_t *pos = mx_calloc((size_t)P + 1, sizeof *pos);
+    int *dst = mx_malloc(n * sizeof *dst);
+    mpt *sb = mx_malloc(n * sizeof *sb);
+    size_t *sidx = mx_malloc(n * sizeof *sidx);
+    R->imap = mx_malloc(n * sizeof *R->imap);
+    mpt *rb = NULL;
+    uint64_t *rep = NULL, *back = NULL;
+    size_t *ord = NULL, m = 0;
+    if (!scnt || !rcnt || !pos || !dst || !sb || !sidx || !R->imap)
+        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) != GTET_OK) goto done;
+    for (size_t i = 0; i < n; i++) {
+        dst[i] = hash_rank(R->xyz + 3 * i, P);
+        scnt[dst[i]]++;
+    }
+    for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + scnt[q];
+    for (size_t i = 0; i < n; i++) {
+        size_t k = pos[dst[i]]++;
+        memcpy(sb[k].x, R->xyz + 3 * i, sizeof sb[k].x);
+        sb[k].id = R->first + i;
+        sidx[k] = i;
+    }
+    {
+        void *r;
+        if ((s = mx_exchange(c, sb, scnt, sizeof(mpt), &r, rcnt, &m, 0)) != GTET_OK) goto done;
+        rb = r;
+    }
+    ord = mx_malloc(m * sizeof *ord);
+    rep = mx_malloc((m > n ? m : n) * sizeof *rep);
+    if (!ord || !rep) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) != GTET_OK) goto done;
+    for (size_t k = 0; k < m; k++) ord[k] = k;
+    g_sort_recs = rb;
+    mpi_sort(ord, m, sizeof *ord, cmp_rec_idx);
+    /* each record learns its group's first occurrence */
+    for (size_t a = 0; a < m;) {
+        size_t b = a + 1;
+        while (b < m && point_lt(rb[ord[a]].x, rb[ord[b]].x) == 0) b++;
+        for (size_t k = a; k < b; k++) rep[ord[k]] = rb[ord[a]].id;
+        a = b;
+    }
+    {
+        void *r;
+        size_t tot;
+        if ((s = mx_exchange(c, rep, rcnt, sizeof(uint64_t), &r, scnt, &tot, 0)) != GTET_OK)
+            goto done;
+        back = r;
+    }
+    /* first occurrences here, numbered after those of the ranks whose ranges come first */
+    uint64_t nfirst = 0;
+    for (size_t k = 0; k < n; k++) nfirst += back[k] == sb[k].id;
+    uint64_t *cnts = mx_malloc((size_t)P * sizeof *cnts);
+    R->fp = mx_malloc((size_t)nfirst * sizeof *R->fp);
+    if (!cnts || !R->fp) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) != GTET_OK) {
+        free(cnts);
+        goto done;
+    }
+    MPI_Allgather(&nfirst, 1, MPI_UINT64_T, cnts, 1, MPI_UINT64_T, c->comm);
+    uint64_t base = 0, V = 0;
+    for (int q = 0; q < P; q++) {
+        V += cnts[q];
+        if (R->firsts_all[2 * q + 1] && R->firsts_all[2 * q] < R->first) base += cnts[q];
+    }
+    free(cnts);
+    R->V = V;
+    /* vertex ids in input order: imap first holds "is first" marks */
+    for (size_t i = 0; i < n; i++) R->imap[i] = NOID;
+    for (size_t k = 0; k < n; k++)
+        if (back[k] == sb[k].id) R->imap[sidx[k]] = 0;
+    R->nf = 0;
+    for (size_t i = 0; i < n; i++)
+        if (R->imap[i] == 0) {
+            R->imap[i] = base + R->nf;
+            memcpy(R->fp[R->nf].x, R->xyz + 3 * i, sizeof R->fp[0].x);
+            R->fp[R->nf].id = R->imap[i];
+            R->nf++;
+        }
+    /* second pass: the owners give every record the id of its group's first */
+    for (size_t k = 0; k < n; k++) rep[k] = R->imap[sidx[k]];
+    free(back);
+    back = NULL;
+    {
+        void *r;
+        size_t tot;
+        if ((s = mx_exchange(c, rep, scnt, sizeof(uint64_t), &r, rcnt, &tot, 0)) != GTET_OK)
+            goto done;
+        back = r;
+    }
+    for (size_t a = 0; a < m;) {
+        size_t b = a + 1;
+        while (b < m && point_lt(rb[ord[a]].x, rb[ord[b]].x) == 0) b++;
+        uint64_t vid = back[ord[a]];
+        for (size_t k = a; k < b; k++) rep[ord[k]] = vid;
+        a = b;
+    }
+    free(back);
+    back = NULL;
+    {
+        void *r;
+        size_t tot;
+        if ((s = mx_exchange(c, rep, rcnt, sizeof(uint64_t), &r, scnt, &tot, 0)) != GTET_OK)
+            goto done;
+        back = r;
+    }
+    for (size_t k = 0; k < n; k++) R->imap[sidx[k]] = back[k];
+done:
+    free(scnt);
+    free(rcnt);
+    free(pos);
+    free(dst);
+    free(sb);
+    free(sidx);
+    free(rb);
+    free(ord);
+    free(rep);
+    free(back);
+    return s;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* 3. dimension                                                                               */
+/* ------------------------------------------------------------------------------------------ */
+
+/* exact orient2d of the projections on coordinate plane (i, j), through gtet_orient3d */
+static int orient2(const double *a, const double *b, const double *p, int i, int j)
+{
+    double A[3] = {a[i], a[j], 0}, B[3] = {b[i], b[j], 0}, C[3] = {p[i], p[j], 0};
+    static const double up[3] = {0, 0, 1};
+    return gtet_orient3d(A, B, C, up);
+}
+
+static int seed_ok(const run *R, int stage, const double *x)
+{
+    switch (stage) {
+    case 0: return 1;
+    case 1: return point_lt(x, R->seed[0].x) != 0;
+    case 2:
+        return orient2(R->seed[0].x, R->seed[1].x, x, 0, 1) != 0 ||
+               orient2(R->seed[0].x, R->seed[1].x, x, 1, 2) != 0 ||
+               orient2(R->seed[0].x, R->seed[1].x, x, 2, 0) != 0;
+    default: return gtet_orient3d(R->seed[0].x, R->seed[1].x, R->seed[2].x, x) != 0;
+    }
+}
+
+gtet_status mx_step_dimension(run *R)
+{
+    mctx *c = &R->c;
+    int P = c->size;
+    mpt *all = mx_malloc((size_t)P * sizeof *all);
+    gtet_status s = all ? GTET_OK : mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) != GTET_OK) return s;
+    static const char *what[3] = {"all the same point", "all collinear", "all coplanar"};
+    for (int stage = 0; stage < 4; stage++) {
+        mpt best = {{0, 0, 0}, NOID};
+        for (size_t i = 0; i < R->nf; i++)
+            if (R->fp[i].id < best.id && seed_ok(R, stage, R->fp[i].x)) best = R->fp[i];
+        MPI_Allgather(&best, (int)sizeof best, MPI_BYTE, all, (int)sizeof best, MPI_BYTE,
+                      c->comm);
+        best.id = NOID;
+        for (int q = 0; q < P; q++)
+            if (all[q].id < best.id) best = all[q];
+        if (best.id == NOID) {
+            free(all);
+            c->err.dimension = stage - 1;
+            return mx_fail(c, GTET_ERR_DEGENERATE_INPUT,
+                           "degenerate input: the %llu distinct points are %s (affine dimension "
+                           "%d); a tetrahedrization needs 4 affinely independent points",
+                           (unsigned long long)R->V, what[stage - 1], stage - 1);
+        }
+        R->seed[stage] = best;
+    }
+    free(all);
+    return GTET_OK;
+}

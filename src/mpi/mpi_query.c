@@ -1,0 +1,264 @@
+/* mpi_query.c -- the geometry of the conflict queries (conservative circumballs, boxes,
+ * halfspaces: proofs/distributed.md D4) and their answering side: the tile's grid of cells and
+ * the exact conflict tests of the tile points a query's ball or halfspace may reach. */
+#define _POSIX_C_SOURCE 200809L
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpi/mpi_internal.h"
+
+/* ------------------------------------------------------------------------------------------ */
+/* geometry: conservative circumballs, boxes, halfspaces (proofs/distributed.md D4)           */
+/* ------------------------------------------------------------------------------------------ */
+
+void mx_tet_ball(const double *a, const double *b, const double *cc, const double *d,
+                     ball *B)
+{
+    double ba[3], ca[3], da[3];
+    for (int k = 0; k < 3; k++) {
+        ba[k] = b[k] - a[k];
+        ca[k] = cc[k] - a[k];
+        da[k] = d[k] - a[k];
+    }
+    double lb = ba[0] * ba[0] + ba[1] * ba[1] + ba[2] * ba[2];
+    double lc = ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
+    double ld = da[0] * da[0] + da[1] * da[1] + da[2] * da[2];
+    double L = sqrt(fmax(lb, fmax(lc, ld)));
+    double x1[3] = {ca[1] * da[2] - ca[2] * da[1], ca[2] * da[0] - ca[0] * da[2],
+                    ca[0] * da[1] - ca[1] * da[0]};
+    double x2[3] = {da[1] * ba[2] - da[2] * ba[1], da[2] * ba[0] - da[0] * ba[2],
+                    da[0] * ba[1] - da[1] * ba[0]};
+    double x3[3] = {ba[1] * ca[2] - ba[2] * ca[1], ba[2] * ca[0] - ba[0] * ca[2],
+                    ba[0] * ca[1] - ba[1] * ca[0]};
+    double D = ba[0] * x1[0] + ba[1] * x1[1] + ba[2] * x1[2];
+    B->all = 1;
+    if (!(L >= 1e-100 && L <= 1e100) || !(fabs(D) > 0)) return;
+    double cond = L * L * L / fabs(D);
+    if (!(cond <= 1e12)) return;
+    double o[3], amax = 0;
+    for (int k = 0; k < 3; k++) {
+        o[k] = (lb * x1[k] + lc * x2[k] + ld * x3[k]) / (2 * D);
+        B->c[k] = a[k] + o[k];
+        amax = fmax(amax, fabs(a[k]));
+    }
+    double R = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it */
+    B->r = R * (1 + 1e-6) + 200 * DBL_EPSILON * cond * (R + L) + 1e-14 * (amax + R);
+    if (!isfinite(B->r) || !isfinite(B->c[0]) || !isfinite(B->c[1]) || !isfinite(B->c[2]))
+        return;
+    B->all = 0;
+}
+
+int mx_ball_meets_box(const ball *B, const double *box)
+{
+    if (B->all) return 1;
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = fmax(box[k] - B->c[k], fmax(0.0, B->c[k] - box[3 + k]));
+        d2 += e * e;
+    }
+    return sqrt(d2) <= B->r * (1 + 1e-9);
+}
+
+/* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box?  (an affine
+ * function is largest at a corner) */
+int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
+                               const double *box)
+{
+    for (int m = 0; m < 8; m++) {
+        double x[3] = {box[(m & 1) ? 3 : 0], box[(m & 2) ? 4 : 1], box[(m & 4) ? 5 : 2]};
+        if (gtet_orient3d(a, b, cc, x) >= 0) return 1;
+    }
+    return 0;
+}
+
+/* floating filter for the same question, conservative (D4): 1 unless the box is surely on
+ * the negative side */
+typedef struct hspace {
+    double a[3], nrm[3], tol;
+    int all;
+} hspace;
+
+static void hspace_init(hspace *H, const double *a, const double *b, const double *cc)
+{
+    double ba[3], ca[3];
+    for (int k = 0; k < 3; k++) {
+        ba[k] = b[k] - a[k];
+        ca[k] = cc[k] - a[k];
+        H->a[k] = a[k];
+    }
+    H->nrm[0] = ba[1] * ca[2] - ba[2] * ca[1];
+    H->nrm[1] = ba[2] * ca[0] - ba[0] * ca[2];
+    H->nrm[2] = ba[0] * ca[1] - ba[1] * ca[0];
+    double lb = sqrt(ba[0] * ba[0] + ba[1] * ba[1] + ba[2] * ba[2]);
+    double lc = sqrt(ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2]);
+    H->tol = 1e-12 * lb * lc;
+    H->all = !(lb >= 1e-100 && lb <= 1e100 && lc >= 1e-100 && lc <= 1e100);
+}
+
+static int hspace_meets_box(const hspace *H, const double *lo, const double *hi)
+{
+    if (H->all) return 1;
+    for (int m = 0; m < 8; m++) {
+        double x[3] = {((m & 1) ? hi[0] : lo[0]) - H->a[0], ((m & 2) ? hi[1] : lo[1]) - H->a[1],
+                       ((m & 4) ? hi[2] : lo[2]) - H->a[2]};
+        double v = H->nrm[0] * x[0] + H->nrm[1] * x[1] + H->nrm[2] * x[2];
+        double len = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+        if (!isfinite(v) || v >= -H->tol * len * 4) return 1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* the tile's grid (answers queries)                                                          */
+/* ------------------------------------------------------------------------------------------ */
+
+static int cell_of(const grid *G, int k, double x)
+{
+    double t = (x - G->lo[k]) * G->inv[k];
+    if (!(t >= 0)) return 0;
+    if (t >= G->g[k]) return G->g[k] - 1;
+    return (int)t;
+}
+
+gtet_status mx_grid_build(run *R)
+{
+    grid *G = &R->gr;
+    size_t m = R->m;
+    if (m == 0) return GTET_OK;
+    const double *box = R->box + 6 * R->c.rank;
+    double e[3], vol = 1, emax = 0;
+    for (int k = 0; k < 3; k++) {
+        G->lo[k] = box[k];
+        G->hi[k] = box[3 + k];
+        e[k] = box[3 + k] - box[k];
+        emax = fmax(emax, e[k]);
+    }
+    for (int k = 0; k < 3; k++) vol *= fmax(e[k], emax * 1e-3);
+    double target = fmax(1.0, (double)m / 2);
+    double h = cbrt(vol / target);
+    size_t cells = 1;
+    for (int k = 0; k < 3; k++) {
+        double gk = (e[k] > 0 && h > 0 && isfinite(h)) ? floor(e[k] / h) : 1;
+        if (!(gk >= 1)) gk = 1;
+        if (gk > 1024) gk = 1024;
+        G->g[k] = (int)gk;
+        G->inv[k] = e[k] > 0 ? G->g[k] / e[k] : 0;
+        if (!isfinite(G->inv[k])) G->inv[k] = 0;
+        G->b[k] = (G->g[k] + GB - 1) / GB;
+        cells *= (size_t)G->g[k];
+    }
+    G->start = mx_calloc(cells + 1, sizeof *G->start);
+    G->idx = mx_malloc(m * sizeof *G->idx);
+    uint32_t *cid = mx_malloc(m * sizeof *cid);
+    if (!G->start || !G->idx || !cid || m > UINT32_MAX) {
+        free(cid);
+        return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
+    }
+    for (size_t i = 0; i < m; i++) {
+        const double *x = R->tile[i].x;
+        size_t ci = ((size_t)cell_of(G, 2, x[2]) * (size_t)G->g[1] + (size_t)cell_of(G, 1, x[1])) *
+                        (size_t)G->g[0] + (size_t)cell_of(G, 0, x[0]);
+        cid[i] = (uint32_t)ci;
+        G->start[ci + 1]++;
+    }
+    for (size_t ci = 0; ci < cells; ci++) G->start[ci + 1] += G->start[ci];
+    for (size_t i = 0; i < m; i++) G->idx[G->start[cid[i]]++] = (uint32_t)i;
+    for (size_t ci = cells; ci > 0; ci--) G->start[ci] = G->start[ci - 1];
+    G->start[0] = 0;
+    free(cid);
+    return GTET_OK;
+}
+
+
+/* Answer: append to out (mpt records) the tile points in conflict with q that were not sent
+ * to rank `to` before; mark them sent. */
+gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
+{
+    grid *G = &R->gr;
+    size_t m = R->m;
+    int P = R->c.size;
+    if (m == 0) return GTET_OK;
+    int hull = Q->id[3] == NOID;
+    ball B;
+    hspace H;
+    int lo[3] = {0, 0, 0}, hi[3] = {G->g[0] - 1, G->g[1] - 1, G->g[2] - 1};
+    if (hull) {
+        hspace_init(&H, Q->p[0], Q->p[1], Q->p[2]);
+    } else {
+        mx_tet_ball(Q->p[0], Q->p[1], Q->p[2], Q->p[3], &B);
+        if (!B.all) {
+            for (int k = 0; k < 3; k++) {
+                double r = B.r * (1 + 1e-9);
+                lo[k] = cell_of(G, k, B.c[k] - r);
+                hi[k] = cell_of(G, k, B.c[k] + r);
+            }
+        }
+    }
+    double cw[3];
+    for (int k = 0; k < 3; k++) cw[k] = G->g[k] > 0 && G->inv[k] > 0 ? 1 / G->inv[k] : 0;
+    /* halfspace: blocks of GB^3 cells first */
+    for (int bz = lo[2] / GB; bz <= hi[2] / GB; bz++)
+        for (int by = lo[1] / GB; by <= hi[1] / GB; by++)
+            for (int bx = lo[0] / GB; bx <= hi[0] / GB; bx++) {
+                int c0[3] = {bx * GB, by * GB, bz * GB};
+                if (hull) {
+                    double blo[3], bhi[3];
+                    for (int k = 0; k < 3; k++) {
+                        int c1 = c0[k] + GB;
+                        blo[k] = c0[k] == 0 ? G->lo[k] : G->lo[k] + c0[k] * cw[k];
+                        bhi[k] = c1 >= G->g[k] ? G->hi[k] : G->lo[k] + c1 * cw[k];
+                        /* the cell formula's rounding: widen by a relative hair */
+                        double w = 1e-9 * (fabs(blo[k]) + fabs(bhi[k]) + (bhi[k] - blo[k]));
+                        blo[k] -= w;
+                        bhi[k] += w;
+                    }
+                    if (!hspace_meets_box(&H, blo, bhi)) continue;
+                }
+                for (int z = c0[2]; z < c0[2] + GB && z <= hi[2]; z++) {
+                    if (z < lo[2]) continue;
+                    for (int y = c0[1]; y < c0[1] + GB && y <= hi[1]; y++) {
+                        if (y < lo[1]) continue;
+                        for (int x = c0[0]; x < c0[0] + GB && x <= hi[0]; x++) {
+                            if (x < lo[0]) continue;
+                            size_t ci = ((size_t)z * (size_t)G->g[1] + (size_t)y) *
+                                            (size_t)G->g[0] + (size_t)x;
+                            for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) {
+                                const mpt *p = &R->tile[G->idx[j]];
+                                if (p->id == Q->id[0] || p->id == Q->id[1] || p->id == Q->id[2] ||
+                                    p->id == Q->id[3])
+                                    continue;
+                                int conflict;
+                                if (hull) {
+                                    conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2],
+                                                                   p->x) > 0;
+                                } else {
+                                    if (!B.all) {
+                                        double d0 = p->x[0] - B.c[0], d1 = p->x[1] - B.c[1],
+                                               d2 = p->x[2] - B.c[2];
+                                        if (sqrt(d0 * d0 + d1 * d1 + d2 * d2) >
+                                            B.r * (1 + 1e-9))
+                                            continue;
+                                    }
+                                    conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2],
+                                                                 Q->p[3], p->x) > 0;
+                                }
+                                if (!conflict) continue;
+                                int a = mx_hs_add(&R->sent, (uint64_t)G->idx[j] * (uint64_t)P +
+                                                             (uint64_t)to);
+                                if (a < 0) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
+                                                          "out of memory");
+                                if (a == 0) continue;
+                                mpt *o = mx_vec_push(out);
+                                if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
+                                                       "out of memory");
+                                *o = *p;
+                            }
+                        }
+                    }
+                }
+            }
+    return GTET_OK;
+}
