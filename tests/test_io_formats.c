@@ -36,8 +36,10 @@ static void test_capabilities_and_lists(void)
     TEST_CHECK(!io_format_can(IO_FMT_XYZ, IO_READ_MESH), ".xyz is no mesh");
     TEST_CHECK(io_format_can(IO_FMT_VTU, IO_READ_MESH | IO_WRITE_MESH), ".vtu");
     char b[128];
-    TEST_CHECK(!strcmp(io_format_list(IO_READ_POINTS, 0, b, sizeof b), ".xyz, .node, .ply or .bin"),
-               "%s", b);
+    TEST_CHECK(!strcmp(io_format_list(IO_READ_POINTS, 0, b, sizeof b),
+                       ".xyz, .node, .ply, .bin or .off"), "%s", b);
+    TEST_CHECK(!strcmp(io_format_list(IO_READ_SURFACE, 0, b, sizeof b), ".ply or .off"), "%s", b);
+    TEST_CHECK(!io_format_can(IO_FMT_OFF, IO_WRITE_POINTS), ".off is not written");
     TEST_CHECK(!strcmp(io_format_list(IO_WRITE_MESH, 0, b, sizeof b), ".ele, .msh or .vtu"), "%s", b);
     TEST_CHECK(!strcmp(io_format_list(IO_READ_MESH, 1, b, sizeof b),
                        ".ele (with its .node), .msh or .vtu"), "%s", b);

@@ -1,11 +1,12 @@
 /* cmd_check_generate.c -- `gigatet check MESH [--points INPUT] [--delaunay] [--any-orientation]
  * [--full] [--json] [-q]` and
- * `gigatet generate KIND N [--seed S] -o FILE [-q]`.
+ * `gigatet generate KIND N [--seed S] [--mesh FILE] -o FILE [-q]`.
  *
  * check reads the mesh back (io_read_mesh: .ele with its .node, .msh, .vtu; every vertex id is
  * range-checked there) and hands the plain arrays to the exact checker gtet_check_arrays,
  * which rebuilds the adjacency itself.  Exit 5 when an invariant fails, 2 when a file is bad.
- * generate writes the points of io_generate atomically.
+ * generate writes the points of io_generate atomically; the kind `surface` samples the
+ * triangles of --mesh FILE (io_read_surface, io_sample_surface), which no other kind takes.
  */
 #include "cli.h"
 #include "json.h"
@@ -132,7 +133,7 @@ static int cli_check(int argc, char **argv)
 }
 
 typedef struct gen_args {
-    const char *kind, *count, *output;
+    const char *kind, *count, *output, *mesh;
     uint64_t seed;
     unsigned quiet;
 } gen_args;
@@ -144,6 +145,9 @@ static const cli_opt gen_opts[] = {
     {.name = "--seed", .kind = CLI_OPT_U64, .off = offsetof(gen_args, seed), .max = UINT64_MAX,
      .arg = "S", .missing = "--seed needs a non-negative integer",
      .help = "seed of the random kinds (default 1)"},
+    {.name = "--mesh", .kind = CLI_OPT_STRING, .off = offsetof(gen_args, mesh), .arg = "FILE",
+     .missing = "option --mesh needs a file name",
+     .help = "the triangle mesh the kind 'surface' samples (.off or .ply with faces)"},
     CLI_OPT_QUIET(gen_args),
     {0}};
 
@@ -161,6 +165,16 @@ const cli_command cli_cmd_generate = {
     .extra = "generate: unexpected argument '{arg}'",
     .run = cli_generate,
 };
+
+/* n points on the triangles of a->mesh. */
+static io_status gen_surface(const gen_args *a, size_t n, double **xyz, io_error *e)
+{
+    io_surface s;
+    io_status is = io_read_surface(a->mesh, &s, e);
+    if (is == IO_OK) is = io_sample_surface(&s, a->mesh, n, a->seed, xyz, e);
+    io_surface_free(&s);
+    return is;
+}
 
 static int cli_generate(int argc, char **argv)
 {
@@ -181,11 +195,18 @@ static int cli_generate(int argc, char **argv)
     if (!io_format_can(io_format_of(a.output), IO_WRITE_POINTS))
         return cli_usage("%s: unknown point file extension (use %s)", a.output,
                          io_format_list(IO_WRITE_POINTS, 0, list, sizeof list));
+    int surface = !strcmp(a.kind, "surface");
+    if (surface && !a.mesh) return cli_usage("generate: the kind 'surface' needs --mesh FILE");
+    if (!surface && a.mesh) return cli_usage("generate: --mesh is only for the kind 'surface'");
+    if (surface && !io_format_can(io_format_of(a.mesh), IO_READ_SURFACE))
+        return cli_usage("%s: generate surface reads %s meshes", a.mesh,
+                         io_format_list(IO_READ_SURFACE, 0, list, sizeof list));
     io_error ioe;
     io_status is;
     double *xyz;
-    size_t m;
-    if ((is = io_generate(a.kind, (size_t)n, a.seed, &xyz, &m, &ioe)) != IO_OK)
+    size_t m = (size_t)n;
+    if ((is = surface ? gen_surface(&a, m, &xyz, &ioe)
+                      : io_generate(a.kind, (size_t)n, a.seed, &xyz, &m, &ioe)) != IO_OK)
         return cli_io_failed(is, &ioe);
     is = io_write_points(a.output, xyz, m, &ioe);
     free(xyz);

@@ -26,7 +26,7 @@ static void print_help(FILE *f)
     fputs("  gigatet --help | --version\n\n", f);
     for (int c = 0; c < NCOMMANDS; c++) cli_print_command_help(f, commands[c]);
     fputs("\nFile formats, by extension (points: triangulate's INPUT, --points, generate's -o;\n"
-          "meshes: triangulate's -o, check, diff):\n", f);
+          "meshes: triangulate's -o, check, diff; surfaces: generate surface's --mesh):\n", f);
     for (int k = 0; k < IO_FMT_COUNT; k++)
         fprintf(f, "  %-6s %s\n", io_formats[k].ext, io_formats[k].description);
     fputs("Exact duplicate points are counted and mapped to their first occurrence, never\n"

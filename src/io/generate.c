@@ -31,6 +31,9 @@
  *                in one Moore cell of the bounding box (the BRIO's refinement, src/sort/brio.c)
  *   cauchy       n points with Cauchy-distributed coordinates (a ratio of two Gaussians):
  *                heavy tails, a bounding box some 10^5 times the bulk's
+ *   surface      n points uniform by area on the triangles of a mesh file: not made here
+ *                but by io_sample_surface (sample_surface.c), which needs the mesh; listed
+ *                so that the help and the CLI's list of kinds name it
  */
 #include "io_internal.h"
 
@@ -41,7 +44,7 @@
 static const char *const kinds[] = {"uniform", "ball", "sphere", "grid", "jittered",
                                     "cospherical", "paraboloid", "fcc", "bcc", "plane-apex",
                                     "plane-apex-denormal", "clustered", "far-point", "cauchy",
-                                    NULL};
+                                    "surface", NULL};
 static const char *const helps[] = {
     "uniform in the unit cube [0,1)^3",
     "uniform in the unit ball",
@@ -57,6 +60,7 @@ static const char *const helps[] = {
     "Gaussian clusters (sigma 0.01), 1 + N/1000 of them",
     "N-1 points uniform in [0,1)^3 plus one at (10^6, 10^6, 10^6)",
     "Cauchy-distributed coordinates (heavy tails)",
+    "uniform by area on the triangles of --mesh FILE (.off or .ply)",
 };
 
 const char *const *io_generator_kinds(void) { return kinds; }
@@ -70,13 +74,15 @@ const char *io_generator_help(const char *kind)
 
 typedef struct rng { uint64_t s; } rng;
 
-static uint64_t next(rng *r)
+uint64_t io_splitmix64(uint64_t *s)
 {
-    uint64_t z = (r->s += 0x9e3779b97f4a7c15ULL);
+    uint64_t z = (*s += 0x9e3779b97f4a7c15ULL);
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
     return z ^ (z >> 31);
 }
+
+static uint64_t next(rng *r) { return io_splitmix64(&r->s); }
 
 static double uniform(rng *r) { return (double)(next(r) >> 11) * 0x1p-53; }
 
@@ -292,6 +298,9 @@ io_status io_generate(const char *kind, size_t n, uint64_t seed, double **xyz, s
     for (int i = 0; kinds[i]; i++)
         if (strcmp(kinds[i], kind) == 0) which = i;
     if (which < 0) return io_fail(err, IO_ERR_ARGUMENT, "unknown generator kind '%s'", kind);
+    if (!strcmp(kind, "surface"))
+        return io_fail(err, IO_ERR_ARGUMENT, "the kind 'surface' samples a mesh: "
+                       "io_sample_surface (generate surface N --mesh FILE)");
     if (n < 1 || n > (size_t)UINT32_MAX)
         return io_fail(err, IO_ERR_ARGUMENT, "the number of points must be in 1..%u", UINT32_MAX);
     rng r = {seed};

@@ -59,8 +59,20 @@
  *   checked against the bytes present (and zlib's largest expansion ratio) before anything
  *   of its size is allocated.
  *
+ * Surface readers (triangle meshes, for the `surface` generator; read_off.c, read_ply.c):
+ *   .off   Geomview OFF: the keyword [ST][C][N]OFF (texture, colour and normal columns after
+ *          x y z are read and dropped; 4OFF, nOFF and BINARY are refused by name), alone on
+ *          its line or followed by the counts; "nv nf [ne]"; nv vertex lines, nf face lines
+ *          "k i1 .. ik [colour]".  '#' comments.  Also a point format (its vertices).
+ *   .ply   the point reader's header and vertices, and an element "face" with a list property
+ *          "vertex_indices" (or "vertex_index"); other face properties are skipped.
+ *   Polygons of k > 3 corners are fanned from their first corner into k - 2 triangles (the
+ *   polygon itself when it is convex); faces of fewer than 3 corners and indices out of range
+ *   are errors.  Vertices unused by any face are kept.
+ *
  * Generators: io_generate(kind, n, seed) with the kinds listed by io_generator_kinds();
- * reproducible (splitmix64 seeded by `seed`), no global state.
+ * reproducible (splitmix64 seeded by `seed`), no global state.  The kind "surface" needs a
+ * mesh: io_sample_surface.
  *
  * No function prints or exits; all report through io_status and io_error.
  */
@@ -88,16 +100,18 @@ typedef struct io_error {
 typedef enum io_format {
     IO_FMT_UNKNOWN = 0,
     IO_FMT_XYZ, IO_FMT_NODE, IO_FMT_PLY, IO_FMT_BIN,   /* point sets */
-    IO_FMT_ELE, IO_FMT_MSH, IO_FMT_VTU                 /* meshes */
+    IO_FMT_ELE, IO_FMT_MSH, IO_FMT_VTU,                /* meshes */
+    IO_FMT_OFF                                         /* surface meshes (and their vertices) */
 } io_format;
-#define IO_FMT_COUNT 7
+#define IO_FMT_COUNT 8
 
 /* What a format's reader and writer handle (io_format_info.can). */
 enum {
     IO_READ_POINTS = 1u,
     IO_WRITE_POINTS = 2u,
     IO_READ_MESH = 4u,
-    IO_WRITE_MESH = 8u
+    IO_WRITE_MESH = 8u,
+    IO_READ_SURFACE = 16u   /* triangles: io_read_surface */
 };
 
 /* The one list of file formats: every extension check, error message and help text is drawn
@@ -163,6 +177,29 @@ io_status io_check_writable(const char *path, io_error *err);
 
 /* For .ele: the .node path written / read beside it (malloc'ed), else NULL. */
 char *io_ele_node_path(const char *path);
+
+/* ---- surface meshes (triangles) ---------------------------------------------------------- */
+
+typedef struct io_surface {
+    double *vertices;   /* 3*nv */
+    size_t nv;
+    uint32_t *tris;     /* 3*nt vertex ids, 0-based, range-checked */
+    size_t nt;          /* >= 1 */
+} io_surface;
+
+/* Read a triangle mesh (a format with IO_READ_SURFACE).  On failure *s is zeroed. */
+io_status io_read_surface(const char *path, io_surface *s, io_error *err);
+/* The same readers on bytes in memory (any bytes: the fuzzers' entry point). */
+io_status io_parse_surface(io_format fmt, const char *name, const void *data, size_t len,
+                           io_surface *s, io_error *err);
+void io_surface_free(io_surface *s);
+
+/* n points uniform by area on the triangles of s (a triangle with probability proportional
+ * to its area, then uniform in it); the same (s, n, seed) gives the same bits everywhere.
+ * `name` is only used in messages.  Fails (IO_ERR_INPUT) when every triangle has zero area
+ * or the total area is not finite. */
+io_status io_sample_surface(const io_surface *s, const char *name, size_t n, uint64_t seed,
+                            double **xyz, io_error *err);
 
 /* ---- generators -------------------------------------------------------------------------- */
 

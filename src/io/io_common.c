@@ -40,8 +40,8 @@ const io_format_info io_formats[IO_FMT_COUNT] = {
      "points: x y z per line, '#' comments"},
     {IO_FMT_NODE, ".node", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
      "points: TetGen, 0- or 1-based (written 1-based)"},
-    {IO_FMT_PLY, ".ply", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
-     "points: PLY ascii or binary_little_endian (written binary, double x y z)"},
+    {IO_FMT_PLY, ".ply", IO_READ_POINTS | IO_WRITE_POINTS | IO_READ_SURFACE, NULL,
+     "points or surface: PLY ascii or binary_little_endian (written binary, double x y z)"},
     {IO_FMT_BIN, ".bin", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
      "points: little-endian uint64 count, then count*3 little-endian doubles"},
     {IO_FMT_ELE, ".ele", IO_READ_MESH | IO_WRITE_MESH, ".node",
@@ -50,6 +50,8 @@ const io_format_info io_formats[IO_FMT_COUNT] = {
      "mesh: Gmsh 4.1 or 2.2, ASCII or binary (written 4.1 ASCII)"},
     {IO_FMT_VTU, ".vtu", IO_READ_MESH | IO_WRITE_MESH, NULL,
      "mesh: VTK XML UnstructuredGrid, ascii, base64, appended, zlib (written ascii)"},
+    {IO_FMT_OFF, ".off", IO_READ_POINTS | IO_READ_SURFACE, NULL,
+     "points or surface: Geomview OFF, text (as points: its vertices)"},
 };
 
 static int ext_is(const char *path, const char *ext)
@@ -304,6 +306,18 @@ static io_status parse_nul(io_format fmt, const char *name, const char *buf, siz
     case IO_FMT_NODE: return io_parse_node(name, buf, len, xyz, n, &first, err);
     case IO_FMT_PLY: return io_parse_ply(name, buf, len, xyz, n, err);
     case IO_FMT_BIN: return io_parse_bin(name, (const unsigned char *)buf, len, xyz, n, err);
+    case IO_FMT_OFF: {
+        io_surface s = {0};
+        io_status st = io_parse_off(name, buf, len, &s, err);
+        free(s.tris);
+        if (st != IO_OK) {
+            free(s.vertices);
+            return st;
+        }
+        *xyz = s.vertices;
+        *n = s.nv;
+        return IO_OK;
+    }
     default:
         return unknown_points(err, name);
     }

@@ -66,6 +66,20 @@ io_status io_parse_msh(const char *name, const char *buf, size_t len, io_mesh *m
 io_status io_parse_vtu(const char *name, const char *buf, size_t len, io_mesh *m,
                        io_error *err);
 
+/* ---- surface parsers (read_off.c, read_ply.c), on NUL-terminated buffers ----------------
+ * On failure they leave the surface for the caller (io_parse_surface) to free. */
+typedef struct io_tvec { uint32_t *a; size_t n, cap; } io_tvec;   /* n ids, n % 3 == 0 */
+/* Append the triangle (a, b, c). */
+io_status io_tvec_push3(io_tvec *v, uint32_t a, uint32_t b, uint32_t c, const char *name,
+                        io_error *err);
+io_status io_parse_off(const char *name, const char *buf, size_t len, io_surface *s,
+                       io_error *err);
+io_status io_parse_ply_surface(const char *name, const char *buf, size_t len, io_surface *s,
+                               io_error *err);
+
+/* The generators' random numbers (generate.c): splitmix64, the next 64 bits of state *s. */
+uint64_t io_splitmix64(uint64_t *s);
+
 /* ---- binary helpers (decode.c) ------------------------------------------------------------ */
 /* Little-endian loads of 1, 2, 4 or 8 bytes, whatever the host's byte order. */
 uint64_t io_load_le(const unsigned char *p, size_t width);
