@@ -4,8 +4,10 @@
 Per input and tool, over the successful runs: median wall and CPU seconds of the meshing
 (each tool's own timer; TetGen has CPU only), minimum wall, the ratios of the medians to CGAL
 sequential's on the same input in the same run (< 1 is faster than CGAL), the number of tets,
-the median peak RSS and RSS bytes per tet.  Then the issue
-goals that the run can decide (gigatet rows only), each with the figures it used.
+the median peak RSS and RSS bytes per tet.  Then one table of ratios per input against CGAL
+sequential (wall medians): gigatet -t 1 and -t 2, the speed-up -t 1 / -t 2, and the peers
+(CGAL with 2 TBB threads, HXT 1 and 2 threads).  Then the issue goals that the run can decide
+(gigatet rows only), each with the figures it used.
 """
 import argparse
 import csv
@@ -61,6 +63,61 @@ def ratio(a, b):
     return None if a is None or b is None or math.isnan(a) or math.isnan(b) or not b else a / b
 
 
+def ratio_table(inputs, med):
+    """Per input: -t 1 / CGAL, -t 2 / CGAL, speed-up, and the peers / CGAL (wall medians)."""
+    cols = [("`-t 1` ÷ CGAL", "gigatet1", None), ("`-t 2` ÷ CGAL", "gigatet2", None),
+            ("speed-up `-t 1` / `-t 2`", "gigatet1", "gigatet2"),
+            ("CGAL-TBB 2 ÷ CGAL", "cgal_par2", None), ("HXT 1 ÷ CGAL", "hxt1", None),
+            ("HXT 2 ÷ CGAL", "hxt2", None)]
+    rows = []
+    for inp in inputs:
+        c = med(inp, "cgal_seq")
+        cells = []
+        for _, a, b in cols:
+            x = med(inp, a)
+            cells.append(ratio(x, med(inp, b)) if b else ratio(x, c))
+        if any(v is not None for v in cells):
+            rows.append((inp, c, cells))
+    if not rows:
+        return
+    print()
+    print("## Ratios against CGAL sequential (wall medians of the same run)")
+    print()
+    print("| input | CGAL seq s | " + " | ".join(h for h, _, _ in cols) + " |")
+    print("|---|---:|" + "---:|" * len(cols))
+    for inp, c, cells in rows:
+        print("| %s | %s | %s |" % (inp, fmt(c), " | ".join(fmt(v, "%.2f") for v in cells)))
+
+
+def issue18_goals(inputs, med):
+    """Issue 18's goals, for the families whose prefix names them (bench/run.sh)."""
+    out = []
+
+    def check(inp, what, x, op, goal):
+        if x is None:
+            return
+        ok = x <= goal if op == "<=" else x >= goal
+        out.append("issue 18: %s on %s = %.2f (goal %s %s): %s"
+                   % (what, inp, x, op, goal, "met" if ok else "NOT met"))
+
+    for inp in inputs:
+        c, g1, g2 = med(inp, "cgal_seq"), med(inp, "gigatet1"), med(inp, "gigatet2")
+        t1, t2, sp = ratio(g1, c), ratio(g2, c), ratio(g1, g2)
+        if inp.startswith("scan"):
+            check(inp, "-t 1 / CGAL", t1, "<=", 0.55)
+            check(inp, "-t 2 / CGAL", t2, "<=", 0.32)
+            check(inp, "speed-up", sp, ">=", 1.7)
+        elif inp.startswith("sph") or inp.startswith("par"):
+            check(inp, "-t 1 / CGAL", t1, "<=", 0.6)
+            if inp.startswith("sph"):
+                check(inp, "speed-up", sp, ">=", 1.6)
+        elif inp.startswith("clu"):
+            check(inp, "speed-up", sp, ">=", 1.7)
+        elif inp.startswith("mix"):
+            check(inp, "-t 1 / CGAL", t1, "<=", 1.0)
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("raw")
@@ -113,6 +170,9 @@ def main():
     def med(inp, t, key="median"):
         s = sums.get((inp, t))
         return s[key] if s and not math.isnan(s[key]) else None
+
+    ratio_table(inputs, med)
+    goals += issue18_goals(inputs, med)
 
     for inp in inputs:
         g1, c = med(inp, "gigatet1"), med(inp, "cgal_seq")

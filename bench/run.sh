@@ -1,12 +1,26 @@
 #!/usr/bin/env bash
 # bench/run.sh -- time gigatet against CGAL, TetGen and HXT on the same inputs, in the same run.
 #
-#   bench/run.sh [--runs N] [--inputs "u1M u4M g100"] [--big] [--quick] [--tools "..."]
+#   bench/run.sh [--runs N] [--inputs "u1M u4M g100"] [--big] [--quick] [--issue18] [--tools "..."]
 #                [--build DIR] [--out FILE.md]
 #
-# Inputs (generated once into bench/data/ by tests/cgal/pointsets.py, seed 1, as .bin and
-# TetGen .node): u1M, u4M = 1M / 4M uniform points in [0,1)^3; g100 = the 100^3 integer grid
-# (shuffled); --big adds u10M; --quick uses u100k and g20 instead (for development).
+# Inputs (generated once into bench/data/, seed 1, as .bin and TetGen .node): a name is a
+# family and a size (100k, 200k, 1M, 4M, 10M, ...; the grid gK is the K^3 grid):
+#   uSIZE      uniform in [0,1)^3                               (tests/cgal/pointsets.py)
+#   gK         the K^3 integer grid, shuffled                   (pointsets.py)
+#   cluSIZE    half uniform in [0,1)^3, half in the cube [0.5, 0.501)^3 (pointsets.py halfcube)
+#   mixSIZE    uniform points each scaled by 10^-300, 10^-150, 1, 10^150 or 10^300 (pointsets.py mixed)
+#   sphSIZE    `gigatet generate sphere`      (on the unit sphere, within rounding)
+#   parSIZE    `gigatet generate paraboloid`  (the lifted integer grid, ~SIZE points)
+#   scanASIZE  `gigatet generate surface --mesh armadillo.off`: uniform on the triangles of the
+#              Stanford Armadillo scan (52,000 triangles)
+#   scanBSIZE  the same on the Stanford Bunny scan (bunny00.off, 75,408 triangles)
+# The scan meshes come from CGAL's data, /usr/share/doc/libcgal-demo/data.tar.gz (Debian
+# package libcgal-demo; or the tarball $BENCH_CGAL_DATA names), extracted into
+# bench/data/meshes/; without it (or without a built gigatet for the gigatet-made families)
+# the input is skipped with a message saying why.
+# Default: u1M u4M g100; --big adds u10M; --quick uses u100k and g20 instead (development);
+# --issue18 uses the inputs of issue 18: u1M u4M sph1M par1M clu1M mix1M scanA1M scanB1M.
 # Tools (a missing one is skipped with a message):
 #   cgal_seq   CGAL Delaunay_triangulation_3, Epick, range insertion (spatial sort), 1 thread
 #   cgal_par2  the same with Parallel_tag, Spatial_lock_grid_3 and 2 TBB threads
@@ -42,6 +56,7 @@ while (($#)); do
     --inputs) inputs=$2; shift 2 ;;
     --big) inputs="$inputs u10M"; shift ;;
     --quick) inputs="u100k g20"; shift ;;
+    --issue18) inputs="u1M u4M sph1M par1M clu1M mix1M scanA1M scanB1M"; shift ;;
     --tools) tools=$2; shift 2 ;;
     --build) build=$(cd "$2" && pwd); shift 2 ;;
     --out) out=$2; shift 2 ;;
@@ -65,28 +80,73 @@ raw="${out%.md}.tsv"
 gen="$root/tests/cgal/pointsets.py"
 
 # ---- inputs
-input_args() {  # name -> "KIND N" for pointsets.py
+mesh_tarball=${BENCH_CGAL_DATA:-/usr/share/doc/libcgal-demo/data.tar.gz}  # the CGAL data tarball
+count_of() {  # "200k" -> 200000, "1M" -> 1000000, "50" -> 50; fails on anything else
   case "$1" in
-    u100k) echo "uniform 100000" ;;
-    u1M) echo "uniform 1000000" ;;
-    u4M) echo "uniform 4000000" ;;
-    u10M) echo "uniform 10000000" ;;
-    g20) echo "grid 20" ;;
-    g100) echo "grid 100" ;;
-    *) echo "bench/run.sh: unknown input $1" >&2; exit 1 ;;
+    *[!0-9kM]*|"") return 1 ;;
+    *k) [[ ${1%k} =~ ^[0-9]+$ ]] && echo $(( ${1%k} * 1000 )) ;;
+    *M) [[ ${1%M} =~ ^[0-9]+$ ]] && echo $(( ${1%M} * 1000000 )) ;;
+    *) [[ $1 =~ ^[0-9]+$ ]] && echo "$1" ;;
   esac
 }
+scan_mesh() {  # scanA / scanB -> the mesh file of CGAL's data
+  case "$1" in scanA) echo armadillo.off ;; scanB) echo bunny00.off ;; esac
+}
+# The command writing input $1 to the file $2 (format by extension), as the array gen_cmd;
+# fails with a message on stderr when the input cannot be made here.
+input_cmd() {
+  local in=$1 outf=$2 fam size n mesh
+  fam=$(sed -E 's/^(u|g|clu|mix|sph|par|scanA|scanB)[0-9]+[kM]?$/\1/' <<< "$in")
+  size=${in#"$fam"}
+  if [ "$fam" = "$in" ] || ! n=$(count_of "$size"); then
+    echo "bench/run.sh: unknown input $in" >&2; exit 1
+  fi
+  case "$fam" in
+    u) gen_cmd=(python3 "$gen" uniform "$n" --seed 1 -o "$outf") ;;
+    g) gen_cmd=(python3 "$gen" grid "$n" --seed 1 -o "$outf") ;;
+    clu) gen_cmd=(python3 "$gen" halfcube "$n" --seed 1 -o "$outf") ;;
+    mix) gen_cmd=(python3 "$gen" mixed "$n" --seed 1 -o "$outf") ;;
+    sph|par|scanA|scanB)
+      if [ ! -x "$build/gigatet" ]; then
+        echo "bench: skipping $in: it is made by $build/gigatet generate, which is not built" >&2
+        return 1
+      fi
+      case "$fam" in
+        sph) gen_cmd=("$build/gigatet" generate sphere "$n" --seed 1 -q -o "$outf") ;;
+        par) gen_cmd=("$build/gigatet" generate paraboloid "$n" --seed 1 -q -o "$outf") ;;
+        *)
+          mesh=$(scan_mesh "$fam")
+          if [ ! -s "$data/meshes/$mesh" ]; then
+            if [ ! -r "$mesh_tarball" ]; then
+              echo "bench: skipping $in: its mesh $mesh (a real scan) comes from $mesh_tarball," \
+                   "which is missing (Debian package libcgal-demo: apt-get install libcgal-demo)" >&2
+              return 1
+            fi
+            mkdir -p "$data/meshes"
+            tar xzf "$mesh_tarball" -O "data/meshes/$mesh" > "$data/meshes/$mesh.tmp" &&
+              mv "$data/meshes/$mesh.tmp" "$data/meshes/$mesh" ||
+              { echo "bench: skipping $in: $mesh is not in $mesh_tarball" >&2; rm -f "$data/meshes/$mesh.tmp"; return 1; }
+          fi
+          gen_cmd=("$build/gigatet" generate surface "$n" --mesh "$data/meshes/$mesh" --seed 1 -q -o "$outf") ;;
+      esac ;;
+  esac
+}
+kept=""
 for in in $inputs; do
+  ok=1
   for ext in bin node; do
     f="$data/$in.$ext"
     if [ ! -s "$f" ]; then
-      echo "bench: generating $f" >&2
-      # shellcheck disable=SC2046
-      python3 "$gen" $(input_args "$in") --seed 1 -o "$data/$in.tmp.$ext" &&  # format by extension
-        mv "$data/$in.tmp.$ext" "$f"
+      input_cmd "$in" "$data/$in.tmp.$ext" || { ok=0; break; }
+      echo "bench: generating $f: ${gen_cmd[*]}" >&2
+      "${gen_cmd[@]}" && mv "$data/$in.tmp.$ext" "$f" ||
+        { echo "bench: skipping $in: generating it failed" >&2; rm -f "$data/$in.tmp.$ext"; ok=0; break; }
     fi
   done
+  [ "$ok" = 1 ] && kept="$kept $in"
 done
+inputs=$kept
+[ -n "$inputs" ] || { echo "bench: no input to run" >&2; exit 1; }
 
 # ---- tools: each prints "SECONDS TETS" for one input, or fails
 have_tool() {

@@ -10,8 +10,12 @@ insphere are exactly zero over and over and only the symbolic perturbation decid
 
 Library use: FAMILIES maps a name to a function(size_mode, rng) -> list of (x, y, z).
 Command line (bench/run.sh):  pointsets.py KIND N [--seed S] -o FILE.{bin,xyz,node}
-    KIND: uniform (N points in [0,1)^3) or grid (N = side, side^3 integer points, shuffled);
-    the same KIND N SEED gives the same points in every format.
+    KIND: uniform (N points in [0,1)^3), grid (N = side, side^3 integer points, shuffled),
+    halfcube (N/2 points uniform in [0,1)^3 and N - N/2 in the cube [0.5, 0.501)^3: a dense
+    cluster inside one Delaunay cell of a sparse set, NOTES.md Q3/E5) or mixed (N points
+    uniform in [0,1)^3, each scaled by one of 10^-300, 10^-150, 1, 10^150, 10^300 at random:
+    the mixed 10^+-300 scales of NOTES.md Q5); the same KIND N SEED gives the same points in
+    every format.
 """
 import argparse
 import math
@@ -158,6 +162,26 @@ def mixed_scales(n, rng):
     return pts
 
 
+def halfcube(n, rng):
+    """n//2 uniform in [0,1)^3, the rest uniform in [0.5, 0.501)^3, shuffled."""
+    pts = uniform(n // 2, rng)
+    pts += [(0.5 + 1e-3 * rng.random(), 0.5 + 1e-3 * rng.random(), 0.5 + 1e-3 * rng.random())
+            for _ in range(n - n // 2)]
+    rng.shuffle(pts)
+    return pts
+
+
+def mixed_decades(n, rng):
+    """Uniform points, each scaled by 10^e, e in {-300, -150, 0, 150, 300} at random (each
+    product one correctly rounded multiplication: the same bits on every host)."""
+    scales = [10.0 ** e for e in (-300, -150, 0, 150, 300)]
+    pts = []
+    for _ in range(n):
+        s = scales[rng.randrange(5)]
+        pts.append((rng.random() * s, rng.random() * s, rng.random() * s))
+    return pts
+
+
 # name -> (function(small, rng) -> points).  `small` selects the sanitizer-sized variant.
 FAMILIES = {
     "uniform_1k": lambda s, r: uniform(1000, r),
@@ -189,13 +213,14 @@ def family(name, small=False, seed=1):
 
 def main(argv):
     ap = argparse.ArgumentParser(description="write a benchmark point set")
-    ap.add_argument("kind", choices=["uniform", "grid"])
-    ap.add_argument("n", type=int, help="points (uniform) or side length (grid)")
+    ap.add_argument("kind", choices=["uniform", "grid", "halfcube", "mixed"])
+    ap.add_argument("n", type=int, help="points, or the side length (grid)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("-o", dest="out", required=True)
     a = ap.parse_args(argv)
     rng = random.Random(a.seed)
-    pts = uniform(a.n, rng) if a.kind == "uniform" else grid(a.n, rng)
+    make = {"uniform": uniform, "grid": grid, "halfcube": halfcube, "mixed": mixed_decades}
+    pts = make[a.kind](a.n, rng)
     if a.out.endswith(".xyz"):
         write_xyz(a.out, pts)
     elif a.out.endswith(".node"):
