@@ -12,4 +12,5 @@ void gtet_options_init(gtet_options *opts)
     opts->check = 0;
     opts->degeneracies = 0;
     opts->degeneracy_limit = 100000;
+    opts->memory_limit = 0;  /* the guard against the machine's limits (memory.c) */
 }

@@ -23,6 +23,7 @@
 #include "../mesh/mesh.h"
 #include "../sort/sort.h"
 #include "../validate/validate.h"
+#include "memory.h"
 
 #define BRIO_FIRST 2048
 #define BRIO_RATIO 6.0
@@ -87,7 +88,10 @@ static gtet_status prepare(run *r, gtet_mesh **out)
     }
     r->t_start = omp_get_wtime();
     r->threads = r->opts.threads ? r->opts.threads : omp_get_max_threads();
-    gtet_status s = kval_finite(r->xyz, r->n, r->threads, r->err);
+    /* refuse a run that cannot fit before any big allocation (memory.c) */
+    gtet_status s = mem_guard(r->n, r->threads, &r->opts, r->err);
+    if (s != GTET_OK) return s;
+    s = kval_finite(r->xyz, r->n, r->threads, r->err);
     if (s != GTET_OK) return s;
     r->res = calloc(1, sizeof *r->res);
     if (!r->res) return base_fail(r->err, GTET_ERR_OUT_OF_MEMORY, "allocating the result");

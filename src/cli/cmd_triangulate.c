@@ -1,5 +1,5 @@
 /* cmd_triangulate.c -- `gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check]
- * [--stats] [--degeneracies FILE.json [--degeneracies-limit N]] [-q]`.
+ * [--stats] [--degeneracies FILE.json [--degeneracies-limit N]] [--memory-limit SIZE] [-q]`.
  *
  * Order of work, chosen so that a failure costs little and leaves nothing behind: parse and
  * validate every argument (usage errors before any file is touched), make sure the output can
@@ -38,8 +38,9 @@ static void progress_bar(void *user, double fraction)
 }
 
 typedef struct tri_args {
-    const char *input, *output, *degen;
+    const char *input, *output, *degen, *memory;
     uint64_t threads, degen_limit;
+    size_t memory_limit;  /* gtet_options.memory_limit, from --memory-limit */
     unsigned check, stats, quiet;
 } tri_args;
 
@@ -67,6 +68,12 @@ static const cli_opt tri_opts[] = {
      .invalid = "invalid degeneracy limit '{value}' (expected a count >= 0)",
      .help = "with --degeneracies: store at most N decisions (default 100000; the\n"
              "counts stay exact)"},
+    {.name = "--memory-limit", .kind = CLI_OPT_STRING, .off = offsetof(tri_args, memory),
+     .arg = "SIZE", .missing = "option {opt} needs a size (e.g. 16G, 512M, auto, off)",
+     .help = "the memory the run may use: before the work it estimates its peak and\n"
+             "fails at once (exit 4, nothing written) when it cannot fit; SIZE is bytes\n"
+             "or a number with K, M, G, T (powers of 1024), 'auto' (default: what the\n"
+             "machine can give: MemAvailable, the cgroup's limit, ulimit -v) or 'off'"},
     CLI_OPT_QUIET(tri_args),
     {0}};
 
@@ -138,14 +145,29 @@ static void print_rounds(const gtet_stats *st)
     printf("]");
 }
 
+/* The memory guard's estimate for this run (gtet_estimate_memory, with the checker when
+ * --check ran) plus the input array this process holds (24 bytes a point): comparable with
+ * the measured peak RSS. */
+static size_t estimated_peak(const tri_args *a, const gtet_mesh *mesh, int threads)
+{
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = threads;
+    o.check = (int)a->check;
+    o.degeneracies = a->degen != NULL;
+    o.degeneracy_limit = (size_t)a->degen_limit;
+    const size_t n = gtet_mesh_num_points(mesh);
+    return gtet_estimate_memory(n, &o) + 3 * sizeof(double) * n;
+}
+
 /* The --stats object, one line. */
-static void print_stats(const char *input, const gtet_mesh *mesh, const tri_times *t)
+static void print_stats(const tri_args *a, const gtet_mesh *mesh, const tri_times *t)
 {
     gtet_stats st;
     gtet_mesh_stats(mesh, &st);
     size_t nt = gtet_mesh_num_tets(mesh);
     printf("{\"input\":");
-    cli_json_str(stdout, input);
+    cli_json_str(stdout, a->input);
     printf(",\"points\":%zu,\"vertices\":%zu,\"duplicates\":%zu,\"tets\":%zu,\"hull_facets\":%zu",
            gtet_mesh_num_points(mesh), gtet_mesh_num_vertices(mesh),
            gtet_mesh_num_duplicates(mesh), nt, gtet_mesh_num_hull_facets(mesh));
@@ -156,8 +178,10 @@ static void print_stats(const char *input, const gtet_mesh *mesh, const tri_time
            "\"write\":%.6f,\"wall\":%.6f}",
            t->read, st.seconds_validate, st.seconds_sort, st.seconds_insert, st.seconds_finalize,
            t->kernel, st.seconds_total, t->check, t->write, cli_now() - t->start);
-    printf(",\"bytes_per_tet\":%zu,\"kernel_peak_bytes\":%zu,\"max_rss_bytes\":%ld",
-           st.bytes_per_tet, st.peak_bytes, cli_max_rss_bytes());
+    printf(",\"bytes_per_tet\":%zu,\"kernel_peak_bytes\":%zu,\"max_rss_bytes\":%ld,"
+           "\"estimated_peak_bytes\":%zu",
+           st.bytes_per_tet, st.peak_bytes, cli_max_rss_bytes(),
+           estimated_peak(a, mesh, st.threads));
     printf(",\"tets_created\":%llu,\"walk_steps\":%llu", (unsigned long long)st.tets_created,
            (unsigned long long)st.walk_steps);
     printf(",\"predicates\":");
@@ -179,10 +203,42 @@ static int overwrites_input(const char *input, const char *out)
     return same;
 }
 
-/* Usage errors of the output paths, before any file is touched. */
-static int tri_validate(const tri_args *a, unsigned given)
+/* --memory-limit's value: "auto" (0), "off" (SIZE_MAX), or a positive number of bytes with
+ * an optional binary suffix K, M, G, T (and an optional "B" or "iB" after it).  0 on junk. */
+static int parse_memory_limit(const char *s, size_t *out)
+{
+    if (!strcmp(s, "auto")) return *out = 0, 1;
+    if (!strcmp(s, "off")) return *out = SIZE_MAX, 1;
+    static const char units[] = "KMGT";
+    size_t len = 0;
+    while (s[len] >= '0' && s[len] <= '9') len++;
+    char digits[24];
+    uint64_t v, mult = 1;
+    if (len == 0 || len >= sizeof digits) return 0;
+    memcpy(digits, s, len);
+    digits[len] = '\0';
+    if (!cli_parse_u64(digits, UINT64_MAX, &v)) return 0;
+    const char *u = s + len;
+    const char *at = *u ? strchr(units, *u & ~0x20) : NULL;
+    if (*u && !at) return 0;
+    if (at) {
+        for (const char *k = units; k <= at; k++) mult *= 1024;
+        u++;
+        if (*u == 'i' && u[1] == 'B') u += 2;
+        else if (*u == 'B') u++;
+    }
+    if (*u || v == 0 || v > SIZE_MAX / mult || v * mult == SIZE_MAX) return 0;
+    *out = (size_t)(v * mult);
+    return 1;
+}
+
+/* Usage errors of the output paths and options, before any file is touched. */
+static int tri_validate(tri_args *a, unsigned given)
 {
     char list[128];
+    if (a->memory && !parse_memory_limit(a->memory, &a->memory_limit))
+        return cli_usage("invalid memory limit '%s' (expected a size such as 16G or 512M, "
+                         "'auto' or 'off')", a->memory);
     if (a->output && !io_format_can(io_format_of(a->output), IO_WRITE_MESH))
         return cli_usage("%s: unknown output extension (use %s)", a->output,
                          io_format_list(IO_WRITE_MESH, 0, list, sizeof list));
@@ -229,6 +285,7 @@ static int tri_kernel(const tri_args *a, const double *xyz, size_t n, gtet_mesh 
     opts.error = &gerr;
     opts.degeneracies = a->degen != NULL;
     opts.degeneracy_limit = (size_t)a->degen_limit;
+    opts.memory_limit = a->memory_limit;
     int bar = !a->quiet && isatty(STDERR_FILENO);
     if (bar) {
         opts.progress = progress_bar;
@@ -304,7 +361,7 @@ static int cli_triangulate(int argc, char **argv)
         printf("points=%zu duplicates=%zu tets=%zu seconds=%.3f tets/s=%.0f%s\n", n,
                gtet_mesh_num_duplicates(mesh), nt, t.kernel,
                t.kernel > 0 ? (double)nt / t.kernel : 0.0, a.check ? " check=ok" : "");
-        if (a.stats) print_stats(a.input, mesh, &t);
+        if (a.stats) print_stats(&a, mesh, &t);
         fflush(stdout);
     }
     gtet_mesh_free(&mesh);
