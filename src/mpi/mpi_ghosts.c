@@ -129,6 +129,30 @@ static gtet_status exchange_vecs(run *R, vec *out, size_t rs, void **rb, size_t 
     return s;
 }
 
+/* rank q's seeded layer width: R->layer times its tile's mean spacing, from the gathered box
+ * and count only (the same double on every rank) */
+static double layer_width(const run *R, int q)
+{
+    const double *bx = R->box + 6 * q;
+    double vol = 1, emax = 0;
+    for (int k = 0; k < 3; k++) emax = fmax(emax, bx[3 + k] - bx[k]);
+    for (int k = 0; k < 3; k++) vol *= fmax(bx[3 + k] - bx[k], emax * 1e-3);
+    double delta = R->layer * cbrt(vol / (double)R->tcount[q]);
+    return isfinite(delta) ? delta : 0;
+}
+
+/* Does rank q's seeded layer around this tile's box hold every point of the ball?  Rank q sent
+ * this rank each tile point x with fl(box_dist(B_me, x)) <= layer_width(q) (mx_step_seed).  For
+ * x in the ball, the exact distance is at most dist(B_me, c) + r, and box_dist's rounding is
+ * far below the relative 1e-9 margins (a subtraction, squares, a sum and a square root: a few
+ * ulps); so then every point of tile q in the ball is in S already (D3). */
+static int seed_covers(const run *R, const ball *B, int q)
+{
+    if (B->all) return 0;
+    double d = box_dist(R->box + 6 * R->c.rank, B->c);
+    return (d * (1 + 1e-9) + B->r * (1 + 1e-9)) * (1 + 1e-9) <= layer_width(R, q) * (1 - 1e-9);
+}
+
 gtet_status mx_step_seed(run *R, double layer)
 {
     int P = R->c.size, me = R->c.rank;
@@ -136,6 +160,7 @@ gtet_status mx_step_seed(run *R, double layer)
     size_t *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
     gtet_status s = (out && rcnt) ? GTET_OK : mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                       "out of memory");
+    R->layer = layer;
     if (s == GTET_OK && R->m) {
         /* room for the tile and a ghost layer up front: no rehashing, fewer page faults */
         size_t want = R->m + R->m / 4 + 64, cap = 64;
@@ -158,13 +183,10 @@ gtet_status mx_step_seed(run *R, double layer)
                 s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     if (s == GTET_OK) s = mx_grid_build(R);
     if (s == GTET_OK && R->m) {
-        /* the layer: `layer` times the tile's mean spacing */
-        const double *bx = R->box + 6 * me;
-        double vol = 1, emax = 0;
-        for (int k = 0; k < 3; k++) emax = fmax(emax, bx[3 + k] - bx[k]);
-        for (int k = 0; k < 3; k++) vol *= fmax(bx[3 + k] - bx[k], emax * 1e-3);
-        double delta = layer * cbrt(vol / (double)R->m);
-        if (!isfinite(delta)) delta = 0;
+        /* the layer: `layer` times the tile's mean spacing; every rank computes the same
+         * width from the gathered box and count (layer_width), so a receiver knows exactly
+         * which of this tile's points it got (seed_covers) */
+        double delta = layer_width(R, me);
         for (int q = 0; q < P; q++) out[q].rs = sizeof(mpt);
         for (size_t i = 0; i < R->m && s == GTET_OK; i++)
             for (int q = 0; q < P; q++) {
@@ -280,6 +302,8 @@ static gtet_status make_queries(run *R, vec *out)
                 if (pass == 0 ? !mx_ball_meets_box(&B, bx)
                               : !mx_halfspace_meets_box(Q.p[0], Q.p[1], Q.p[2], bx))
                     continue;
+                /* every point of tile q the ball holds was seeded here: certified (D3) */
+                if (pass == 0 && seed_covers(R, &B, q)) continue;
                 if (!any) {
                     any = 1;
                     mx_sort4(key);

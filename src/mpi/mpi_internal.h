@@ -109,6 +109,7 @@ typedef struct run {
     size_t m;
     double *box;                /* 6 per rank: lo, hi */
     uint64_t *tcount;           /* per rank */
+    double layer;               /* the seeded layer's width in tile spacings */
     /* the local set S: tile points first, then ghosts */
     mpt *sp;
     int *sown;

@@ -98,15 +98,21 @@ static void hspace_init(hspace *H, const double *a, const double *b, const doubl
     H->all = !(lb >= 1e-100 && lb <= 1e100 && lc >= 1e-100 && lc <= 1e100);
 }
 
+/* 1 unless x is surely on the negative side of H's plane (D4's tolerance) */
+static int hspace_may_reach(const hspace *H, const double *p)
+{
+    double x[3] = {p[0] - H->a[0], p[1] - H->a[1], p[2] - H->a[2]};
+    double v = H->nrm[0] * x[0] + H->nrm[1] * x[1] + H->nrm[2] * x[2];
+    double len = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    return !isfinite(v) || v >= -H->tol * len * 4;
+}
+
 static int hspace_meets_box(const hspace *H, const double *lo, const double *hi)
 {
     if (H->all) return 1;
     for (int m = 0; m < 8; m++) {
-        double x[3] = {((m & 1) ? hi[0] : lo[0]) - H->a[0], ((m & 2) ? hi[1] : lo[1]) - H->a[1],
-                       ((m & 4) ? hi[2] : lo[2]) - H->a[2]};
-        double v = H->nrm[0] * x[0] + H->nrm[1] * x[1] + H->nrm[2] * x[2];
-        double len = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-        if (!isfinite(v) || v >= -H->tol * len * 4) return 1;
+        double x[3] = {(m & 1) ? hi[0] : lo[0], (m & 2) ? hi[1] : lo[1], (m & 4) ? hi[2] : lo[2]};
+        if (hspace_may_reach(H, x)) return 1;
     }
     return 0;
 }
@@ -182,8 +188,8 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
     int P = R->c.size;
     if (m == 0) return GTET_OK;
     int hull = Q->id[3] == NOID;
-    ball B;
-    hspace H;
+    ball B = {{0, 0, 0}, 0, 1};
+    hspace H = {{0, 0, 0}, {0, 0, 0}, 0, 1};
     int lo[3] = {0, 0, 0}, hi[3] = {G->g[0] - 1, G->g[1] - 1, G->g[2] - 1};
     if (hull) {
         hspace_init(&H, Q->p[0], Q->p[1], Q->p[2]);
@@ -199,23 +205,25 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
     }
     double cw[3];
     for (int k = 0; k < 3; k++) cw[k] = G->g[k] > 0 && G->inv[k] > 0 ? 1 / G->inv[k] : 0;
-    /* halfspace: blocks of GB^3 cells first */
+    /* blocks of GB^3 cells first: skipped when their box misses the halfspace or the ball (a
+     * flat tet near the hull has a huge ball whose cell range is the whole tile) */
     for (int bz = lo[2] / GB; bz <= hi[2] / GB; bz++)
         for (int by = lo[1] / GB; by <= hi[1] / GB; by++)
             for (int bx = lo[0] / GB; bx <= hi[0] / GB; bx++) {
                 int c0[3] = {bx * GB, by * GB, bz * GB};
-                if (hull) {
-                    double blo[3], bhi[3];
+                if (hull || !B.all) {
+                    double bb[6];   /* lo, hi */
                     for (int k = 0; k < 3; k++) {
                         int c1 = c0[k] + GB;
-                        blo[k] = c0[k] == 0 ? G->lo[k] : G->lo[k] + c0[k] * cw[k];
-                        bhi[k] = c1 >= G->g[k] ? G->hi[k] : G->lo[k] + c1 * cw[k];
+                        bb[k] = c0[k] == 0 ? G->lo[k] : G->lo[k] + c0[k] * cw[k];
+                        bb[3 + k] = c1 >= G->g[k] ? G->hi[k] : G->lo[k] + c1 * cw[k];
                         /* the cell formula's rounding: widen by a relative hair */
-                        double w = 1e-9 * (fabs(blo[k]) + fabs(bhi[k]) + (bhi[k] - blo[k]));
-                        blo[k] -= w;
-                        bhi[k] += w;
+                        double w = 1e-9 * (fabs(bb[k]) + fabs(bb[3 + k]) + (bb[3 + k] - bb[k]));
+                        bb[k] -= w;
+                        bb[3 + k] += w;
                     }
-                    if (!hspace_meets_box(&H, blo, bhi)) continue;
+                    if (hull ? !hspace_meets_box(&H, bb, bb + 3) : !mx_ball_meets_box(&B, bb))
+                        continue;
                 }
                 for (int z = c0[2]; z < c0[2] + GB && z <= hi[2]; z++) {
                     if (z < lo[2]) continue;
@@ -232,6 +240,8 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                     continue;
                                 int conflict;
                                 if (hull) {
+                                    /* the block filter's test, point by point (D4) */
+                                    if (!H.all && !hspace_may_reach(&H, p->x)) continue;
                                     conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2],
                                                                    p->x) > 0;
                                 } else {
