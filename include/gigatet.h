@@ -195,6 +195,12 @@ GTET_API void gtet_options_init(gtet_options *opts);
  * never more than a few percent below the measured peak. */
 GTET_API size_t gtet_estimate_memory(size_t n, const gtet_options *opts);
 
+/* The guard gtet_triangulate runs first, on its own: GTET_OK when a run of n points with
+ * these options (NULL: the defaults) fits under opts->memory_limit's rule, else
+ * GTET_ERR_OUT_OF_MEMORY with opts->error (if given) saying why.  For a caller that will run
+ * gtet_check itself after gtet_triangulate: ask with opts->check set, before the work. */
+GTET_API gtet_status gtet_memory_guard(size_t n, const gtet_options *opts);
+
 /* Build the Delaunay tetrahedrization of the n points xyz[3*i..3*i+2].  On success *mesh
  * holds the result (free it with gtet_mesh_free); on failure *mesh is NULL, the status says
  * why and opts->error (if given) the details.  opts may be NULL for the defaults. */

@@ -13,13 +13,15 @@
  *   dedup   (validate.c kval_dedup*): result vertices 24 + input map 4 + duplicate marks 1
  *   sort    (triangulate.c order_points, brio.c sort_brio_keys): result 28, order 4, and the
  *           BRIO's keys 8 + radix scratch 8 + 4 + round 1
- *   insert  (build.c kbuild_start, insert.c km_init, parallel.c kpar_init/kpar_round): result
- *           28, order 4, the sorted copy sv 24, round ids 4, vloc 1, and the working mesh:
+ *   insert  (build.c kbuild_start, insert.c km_init, parallel.c kpar_init/kpar_round): input
+ *           map 4 (the result's vertices are freed while the sorted copy exists, NOTES.md
+ *           E12), order 4, the sorted copy sv 24, round ids 4, vloc 1, and the working mesh:
  *           tv + tn = 32 bytes per tet slot, MEM_SLOTS_TOUCHED slots per point touched (the
  *           pages RSS counts) of the capacity build.c reserves; with threads, colour 1, keys
  *           8, shifted keys 8, and the pending keys pk 8 + tk 8 + ti 4 of the last BRIO round
  *           (5/6 of the points: the rounds grow by 6, brio.c brio_rounds)
- *   finish  (finalize.c km_finalize compacts in place, then shrinks): never above insert
+ *   finish  (build.c kbuild_finish: the parallel state and vloc freed, finalize.c compacts in
+ *           place and shrinks, then the result's vertices come back from sv): below insert
  *   check   (opts.check; src/check): result 28 + 32 per finite tet, plus the checker's arrays
  *           (MEM_CHECK_PER_TET, MEM_CHECK_PER_POINT, measured)
  *   records (opts.degeneracies): the threads' logs and their merged copy, 36 bytes a record,
@@ -60,9 +62,10 @@
 #define MEM_SLOTS_CAPACITY_X10 70
 #define MEM_SLOTS_GROWN_X10 105
 /* finite tets per point in the result (uniform: 6.5-6.7) */
-#define MEM_TETS_PER_POINT_X10 68
+#define MEM_TETS_PER_POINT_X10 70
 /* per point, in every phase from dedup on: result vertices (3 doubles) + input map */
 #define MEM_PT_RESULT 28
+#define MEM_PT_INPUT_MAP 4    /* the result's input map, alone during the insertion */
 #define MEM_PT_DEDUP 1        /* validate.c: one duplicate mark per point */
 #define MEM_PT_ORDER 4        /* triangulate.c: the insertion order */
 #define MEM_PT_SORT 21        /* brio.c: keys 8, radix scratch tk 8 + ti 4, round 1 */
@@ -73,8 +76,9 @@
  * tenths */
 #define MEM_PT_PARALLEL_X10 280
 #define MEM_PT_PARALLEL_MAPPED_X10 337
-/* the checker (src/check), measured: per finite tet and per point beyond the result */
-#define MEM_CHECK_PER_TET 40
+/* the checker (src/check), measured (uniform 1M: peak RSS 694 MB with --check, 304 MB
+ * without): per finite tet and per point beyond the result */
+#define MEM_CHECK_PER_TET 56
 #define MEM_CHECK_PER_POINT 48
 #define MEM_DEGEN_RECORD 36   /* sizeof(gtet_degeneracy) */
 #define MEM_DEGEN_COPIES 3    /* a log grown by doubling (up to 2x) + the merged copy */
@@ -118,7 +122,8 @@ void mem_estimate_run(size_t n_in, int threads, const gtet_options *opts, mem_es
     const uint64_t dedup = mul10(n, 10 * (MEM_PT_RESULT + MEM_PT_DEDUP));
     const uint64_t sort = add(base, mul10(n, 10 * MEM_PT_SORT));
     const uint64_t par = T > 1 ? mul10(n, MEM_PT_PARALLEL_X10) : 0;
-    const uint64_t kernel = add(add(base, mul10(n, 10 * MEM_PT_KERNEL)), par);
+    const uint64_t kernel =
+        add(mul10(n, 10 * (MEM_PT_INPUT_MAP + MEM_PT_ORDER + MEM_PT_KERNEL)), par);
     uint64_t insert = add(kernel, mul10(n, MEM_SLOTS_TOUCHED_X10 * MEM_SLOT_BYTES));
     insert = add(insert, degen_bytes(n, T, opts));
     uint64_t peak = max2(max2(dedup, sort), insert);
@@ -133,7 +138,8 @@ void mem_estimate_run(size_t n_in, int threads, const gtet_options *opts, mem_es
     /* address space: every per-point array of the kernel is mapped whatever the thread count,
      * and the mesh arrays at their capacity */
     const uint64_t cap10 = T > 1 ? MEM_SLOTS_GROWN_X10 : MEM_SLOTS_CAPACITY_X10;
-    uint64_t addr = add(add(base, mul10(n, 10 * MEM_PT_KERNEL + MEM_PT_PARALLEL_MAPPED_X10)),
+    uint64_t addr = add(mul10(n, 10 * (MEM_PT_INPUT_MAP + MEM_PT_ORDER + MEM_PT_KERNEL) +
+                                     MEM_PT_PARALLEL_MAPPED_X10),
                         mul10(n, cap10 * MEM_SLOT_BYTES));
     addr = add(addr, degen_bytes(n, T, opts));
     addr = max2(max2(addr, sort), e->resident - fixed);
@@ -361,4 +367,18 @@ size_t gtet_estimate_memory(size_t n, const gtet_options *opts)
     mem_estimate e;
     mem_estimate_run(n, threads, &o, &e);
     return e.resident > SIZE_MAX ? SIZE_MAX : (size_t)e.resident;
+}
+
+gtet_status gtet_memory_guard(size_t n, const gtet_options *opts)
+{
+    gtet_options o;
+    if (opts) o = *opts;
+    else gtet_options_init(&o);
+    if (o.error) {
+        memset(o.error, 0, sizeof *o.error);
+        o.error->index = SIZE_MAX;
+        o.error->dimension = -1;
+    }
+    const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+    return mem_guard(n, threads, &o, o.error);
 }

@@ -291,7 +291,12 @@ static int tri_kernel(const tri_args *a, const double *xyz, size_t n, gtet_mesh 
         opts.progress = progress_bar;
         opts.progress_user = &ps;
     }
-    gtet_status gs = gtet_triangulate(xyz, n, &opts, mesh);
+    /* --check runs after the kernel (tri_outputs), and its peak can be the run's: the guard
+     * is asked with it before the work */
+    gtet_options with_check = opts;
+    with_check.check = (int)a->check;
+    gtet_status gs = gtet_memory_guard(n, &with_check);
+    if (gs == GTET_OK) gs = gtet_triangulate(xyz, n, &opts, mesh);
     if (bar && ps.last >= 0) fputs("\r\033[K", stderr);
     if (gs == GTET_OK) return CLI_OK;
     const char *msg = gerr.message[0] ? gerr.message : gtet_status_str(gs);

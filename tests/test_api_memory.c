@@ -1,0 +1,185 @@
+/* test_api_memory.c -- the memory guard (src/api/memory.c): the estimate's shape (per point,
+ * more with threads, the checker and degeneracy records, a small fixed part that never refuses
+ * a small run), the decision against each limit and the limit it names, the limits read from
+ * a fake /proc and /sys tree (cgroup v2 with ancestors and "max", cgroup v1 with its
+ * "unlimited" value, MemAvailable), and gtet_triangulate refusing at once through
+ * gtet_options.memory_limit (or running with the guard off). */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "../src/api/memory.h"
+#include "gigatet.h"
+#include "testutil.h"
+
+#define MIB (UINT64_C(1) << 20)
+#define GIB (UINT64_C(1) << 30)
+
+static void estimate_shape(void)
+{
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = 1;
+    const size_t small = gtet_estimate_memory(1000, &o);
+    TEST_CHECK(small > 1 * MIB && small < 64 * MIB, "1000 points: %zu bytes", small);
+    const size_t big = gtet_estimate_memory(100000000, &o);
+    /* per point at 100M, one thread: between 250 and 400 bytes (the kernel's 7 slots of 32 B) */
+    TEST_CHECK(big / 100000000 >= 250 && big / 100000000 <= 400, "100M points: %zu B/pt",
+               big / 100000000);
+    o.threads = 2;
+    const size_t big2 = gtet_estimate_memory(100000000, &o);
+    TEST_CHECK(big2 > big, "two threads need more: %zu <= %zu", big2, big);
+    o.check = 1;
+    TEST_CHECK(gtet_estimate_memory(100000000, &o) >= big2, "the check never lowers it");
+    o.check = 0;
+    o.degeneracies = 1;
+    o.degeneracy_limit = SIZE_MAX;
+    const size_t rec = gtet_estimate_memory(1000000, &o);
+    o.degeneracies = 0;
+    TEST_CHECK(rec > gtet_estimate_memory(1000000, &o) && rec < SIZE_MAX,
+               "records add a bounded amount: %zu", rec);
+    TEST_CHECK(gtet_estimate_memory(SIZE_MAX / 2, &o) == SIZE_MAX, "saturates");
+    TEST_CHECK(gtet_estimate_memory(0, NULL) > 0, "NULL options: the defaults");
+}
+
+static gtet_status guard(size_t n, const mem_room *room, size_t limit, gtet_error *err)
+{
+    gtet_options o;
+    gtet_options_init(&o);
+    o.memory_limit = limit;
+    memset(err, 0, sizeof *err);
+    return mem_guard_room(n, 1, &o, room, err);
+}
+
+static void guard_names_the_limit(void)
+{
+    const mem_room none = {UINT64_MAX, UINT64_MAX, UINT64_MAX, UINT64_MAX};
+    gtet_error err;
+    TEST_CHECK(guard(10000000, &none, 0, &err) == GTET_OK, "no limit: fits");
+    mem_room r = none;
+    r.mem_available = 20 * GIB;
+    TEST_CHECK(guard(10000000, &r, 0, &err) == GTET_OK, "10M in 20 GiB");
+    TEST_CHECK(guard(100000000, &r, 0, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   err.status == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "out of memory: needs about ") &&
+                   strstr(err.message, "GiB, 20.0 GiB available (MemAvailable)"),
+               "100M in 20 GiB: %s", err.message);
+    r.cgroup = 1 * GIB;
+    TEST_CHECK(guard(10000000, &r, 0, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "1.0 GiB available (cgroup memory limit)"),
+               "cgroup: %s", err.message);
+    r = none;
+    r.rlimit_as = 100 * MIB;
+    TEST_CHECK(guard(1000000, &r, 0, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "of address space, 100.0 MiB available (RLIMIT_AS"),
+               "ulimit -v: %s", err.message);
+    r.rlimit_data = 50 * MIB;
+    TEST_CHECK(guard(1000000, &r, 0, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "(RLIMIT_DATA"), "ulimit -d: %s", err.message);
+    /* the option: a value replaces the machine's limits, SIZE_MAX turns the guard off */
+    TEST_CHECK(guard(1000000, &r, 64 * (size_t)GIB, &err) == GTET_OK, "a value overrides");
+    TEST_CHECK(guard(1000, &none, 1 * MIB, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "1.0 MiB available (the memory_limit option)"),
+               "1M: %s", err.message);
+    r.mem_available = 0;
+    TEST_CHECK(guard(100000000, &r, SIZE_MAX, &err) == GTET_OK, "off");
+    /* never refuses a small run on a machine with normal memory */
+    r = none;
+    r.mem_available = 256 * MIB;
+    TEST_CHECK(guard(100000, &r, 0, &err) == GTET_OK, "100k points in 256 MiB");
+}
+
+static void put(const char *root, const char *rel, const char *text)
+{
+    char p[1024];
+    snprintf(p, sizeof p, "%s/%s", root, rel);
+    for (char *s = p + strlen(root) + 1; (s = strchr(s, '/')); s++) {
+        *s = '\0';
+        mkdir(p, 0700);
+        *s = '/';
+    }
+    FILE *f = fopen(p, "w");
+    if (!f) return;
+    fputs(text, f);
+    fclose(f);
+}
+
+static void probe_fake_tree(void)
+{
+    char root[] = "/tmp/gtet-memory-XXXXXX";
+    TEST_REQUIRE(mkdtemp(root) != NULL, "mkdtemp");
+    char proc[256], sys[256];
+    snprintf(proc, sizeof proc, "%s/proc", root);
+    snprintf(sys, sizeof sys, "%s/sys", root);
+    put(root, "proc/meminfo", "MemTotal:  32000000 kB\nMemFree: 1000 kB\nMemAvailable:  2000000 kB\n");
+    /* v2: /a has 1000 MB with 600 MB used of which 100 MB inactive cache; /a/b "max" */
+    put(root, "proc/self/cgroup", "0::/a/b\n");
+    put(root, "sys/fs/cgroup/a/memory.max", "1000000000\n");
+    put(root, "sys/fs/cgroup/a/memory.current", "600000000\n");
+    put(root, "sys/fs/cgroup/a/memory.stat", "anon 500000000\ninactive_file 100000000\n");
+    put(root, "sys/fs/cgroup/a/b/memory.max", "max\n");
+    put(root, "sys/fs/cgroup/a/b/memory.current", "400000000\n");
+    mem_room room;
+    mem_probe(proc, sys, &room);
+    TEST_CHECK(room.mem_available == UINT64_C(2000000) * 1024, "MemAvailable %llu",
+               (unsigned long long)room.mem_available);
+    TEST_CHECK(room.cgroup == 500000000, "v2: %llu", (unsigned long long)room.cgroup);
+    /* v1: the memory line among others; the child's unlimited value, the parent's limit */
+    put(root, "proc/self/cgroup", "9:pids:/x\n4:cpu,memory:/p/c\n0::/\n");
+    put(root, "sys/fs/cgroup/memory/p/memory.limit_in_bytes", "300000000\n");
+    put(root, "sys/fs/cgroup/memory/p/memory.usage_in_bytes", "100000000\n");
+    put(root, "sys/fs/cgroup/memory/p/memory.stat", "cache 0\ntotal_inactive_file 0\n");
+    put(root, "sys/fs/cgroup/memory/p/c/memory.limit_in_bytes", "9223372036854771712\n");
+    mem_probe(proc, sys, &room);
+    TEST_CHECK(room.cgroup == 200000000, "v1: %llu", (unsigned long long)room.cgroup);
+    /* nothing readable: no limit */
+    put(root, "proc/self/cgroup", "0::/nowhere\n");
+    mem_probe(proc, sys, &room);
+    TEST_CHECK(room.cgroup == UINT64_MAX, "no cgroup files: %llu", (unsigned long long)room.cgroup);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", root);
+    TEST_CHECK(system(cmd) == 0, "cleanup");
+    /* the real machine: MemAvailable is there on Linux */
+    mem_probe("/proc", "/sys", &room);
+    TEST_CHECK(room.mem_available > 0 && room.mem_available < UINT64_MAX, "real MemAvailable");
+}
+
+static void triangulate_refuses(void)
+{
+    const size_t n = 5000;
+    double *xyz = malloc(3 * n * sizeof *xyz);
+    TEST_REQUIRE(xyz != NULL, "allocation");
+    tu_rng rng = {11};
+    for (size_t i = 0; i < 3 * n; i++) xyz[i] = tu_uniform(&rng);
+    gtet_options o;
+    gtet_error err;
+    gtet_options_init(&o);
+    TEST_CHECK(o.memory_limit == 0, "default: against the machine");
+    o.error = &err;
+    o.memory_limit = 1024;
+    gtet_mesh *mesh = (gtet_mesh *)&o;  /* set to NULL on failure */
+    gtet_status s = gtet_triangulate(xyz, n, &o, &mesh);
+    TEST_CHECK(s == GTET_ERR_OUT_OF_MEMORY && mesh == NULL && strstr(err.message, "needs about"),
+               "1 KiB: status %d, %s", (int)s, err.message);
+    o.memory_limit = SIZE_MAX;
+    s = gtet_triangulate(xyz, n, &o, &mesh);
+    TEST_CHECK(s == GTET_OK && mesh && gtet_mesh_num_tets(mesh) > 0, "off: status %d", (int)s);
+    gtet_mesh_free(&mesh);
+    o.memory_limit = 0;
+    s = gtet_triangulate(xyz, n, &o, &mesh);
+    TEST_CHECK(s == GTET_OK, "the machine: status %d, %s", (int)s, err.message);
+    gtet_mesh_free(&mesh);
+    free(xyz);
+}
+
+int main(void)
+{
+    TU_RUN(estimate_shape);
+    TU_RUN(guard_names_the_limit);
+    TU_RUN(probe_fake_tree);
+    TU_RUN(triangulate_refuses);
+    return tu_finish();
+}
