@@ -417,6 +417,61 @@ static void test_axis_aligned_planes_match_oracle(void)
     TEST_CHECK(so.zero > 1000 && si.zero > 1000, "too few exact zeros (%ld, %ld)", so.zero, si.zero);
 }
 
+/* The 60-bit integer form at its limits (exact_int.c: the fast conversion and the radix-2^62
+ * columns of pred_insphere_wide).  Integers below 2^60 (the form's bound) that are doubles,
+ * drawn from the extremes +-(2^53 - 1) 2^7 (the largest below 2^60), +-2^59, +-1, 0 and
+ * 53-bit random integers shifted by 0-7 bits, times 2^k for k from the
+ * subnormal range to 2^900 (the scale must not matter): every intermediate reaches its proved
+ * bound.  Co-spherical lattice points scaled to ~2^58 give exact zeros and +-1-unit neighbours
+ * at full width.  A tuple spanning 60 bits must be accepted by the form, one of 61 rejected. */
+static void test_wide_integer_form_at_its_limits_match_oracle(void)
+{
+    static int64_t lat[512][3];
+    const int64_t top = (((int64_t)1 << 53) - 1) << 7;  /* the largest double below 2^60 */
+    const int64_t picks[] = {top, -top, (int64_t)1 << 59, -((int64_t)1 << 59), 1, -1, 0};
+    tu_rng r = {2028};
+    reset();
+    const int nl = pg_sphere_lattice(16900, lat, 512);
+    TEST_REQUIRE(nl >= 5, "lattice sphere has %d points", nl);
+    for (int t = 0; t < 12000; t++) {
+        const int k = t % 4 == 0 ? 0 : -1074 + (int)tu_below(&r, 1974);  /* 2^60 * 2^k finite */
+        double p[5][3];
+        for (int i = 0; i < 5; i++) {
+            const int64_t *l = lat[tu_below(&r, (uint64_t)nl)];
+            for (int j = 0; j < 3; j++) {
+                int64_t v;
+                if (t % 3 == 2) { /* lattice sphere * 2^43 (< 2^58), moved by 0 or +-1 unit */
+                    v = l[j] * ((int64_t)1 << 43) + (tu_below(&r, 8) == 0 ? pg_int(&r, 1) : 0);
+                } else {
+                    const uint64_t w = tu_below(&r, 10);
+                    v = w < 7 ? picks[w]
+                              : pg_int(&r, ((int64_t)1 << 53) - 1) << tu_below(&r, 8);
+                }
+                p[i][j] = ldexp((double)v, k);
+            }
+        }
+        check_insphere(p);
+        if (t % 2 == 0) check_orient(p);
+    }
+    report("60-bit integer form limits");
+    TEST_CHECK(si.wide_used == si.tuples, "the form refused %ld of %ld tuples of integers below 2^60",
+               si.tuples - si.wide_used, si.tuples);
+    TEST_CHECK(si.zero > 100, "too few zeros at full width: %ld", si.zero);
+    /* 60 bits of span accepted, 61 refused, at two scales */
+    for (int k = -1000; k <= 900; k += 1900) {
+        double q[5][3] = {{0x1p59, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {0.5, 0.5, 0.5}};
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) q[i][j] = ldexp(q[i][j] == 0.5 ? 1.0 : q[i][j], k);
+        int sgn;
+        TEST_CHECK(pred_insphere_wide(q[0], q[1], q[2], q[3], q[4], &sgn) &&
+                       sgn == orc_insphere(q[0], q[1], q[2], q[3], q[4]),
+                   "a 60-bit span refused or wrong at 2^%d", k);
+        q[4][0] = ldexp(0.5, k);  /* one bit lower: 61 bits */
+        TEST_CHECK(!pred_insphere_wide(q[0], q[1], q[2], q[3], q[4], &sgn),
+                   "a 61-bit span accepted at 2^%d", k);
+    }
+}
+
 int main(void)
 {
     TU_RUN(test_random_unit_doubles_match_oracle);
@@ -428,5 +483,6 @@ int main(void)
     TU_RUN(test_extreme_magnitudes_match_oracle);
     TU_RUN(test_lattice_filters_are_exact_within_the_proved_extents);
     TU_RUN(test_axis_aligned_planes_match_oracle);
+    TU_RUN(test_wide_integer_form_at_its_limits_match_oracle);
     return tu_finish();
 }

@@ -1,7 +1,8 @@
 /* exact_int.c -- exact integer stages: (1) when every coordinate is an integer of small
  * magnitude, the determinants are evaluated exactly in int64_t / __int128; (2) the "wide"
  * stage at the end of the file: the exact integer form of any tuple whose bits span <= 60
- * binades, in fixed-width 128/192/320-bit two's complement.
+ * binades: insphere in limbs of radix 2^62 held in 64/128-bit integers (pred_insphere_wide),
+ * orient3d and the coplanar forms in fixed-width 128/192/320-bit two's complement.
  *
  * This is the common exact case on grid inputs (on a 100^3 grid almost every insphere is
  * exactly 0), so it must be cheap: one range+integrality test per coordinate, then the
@@ -148,7 +149,7 @@ int pred_lifted2d_int(const double *a, const double *b, const double *c, const d
  * sign of the homogeneous insphere is that of the integer determinant.  When every such
  * integer is below 2^60 (a tuple whose bits span at most 60 binades, at any scale: points
  * rounded onto a sphere, scaled grids, 2^-1074 or 2^1000 lattices), the evaluation fits fixed
- * widths: differences < 2^61 (int64), 2x2 minors < 2^123 and lifts < 3*2^122 (128 bits),
+ * widths (insphere's radix-2^62 evaluation has its own bounds below): differences < 2^61 (int64), 2x2 minors < 2^123 and lifts < 3*2^122 (128 bits),
  * 3x3 minors < 3*2^61*2^123 < 2^186 (192-bit two's complement), lift*3x3 < 2^310 and the sum
  * of four < 2^312 (320-bit two's complement).  Every operation below is exact in those widths.
  */
@@ -215,8 +216,9 @@ static i320 mul_lift_det3(u128 lift, i192 d, int s)
     return r;
 }
 
-/* integer form of n coordinates below 2^60 after removing the common power of two */
-static int wide_form(const double *const *pts, int n, int64_t (*q)[3])
+/* integer form of n coordinates below 2^60 after removing the common power of two: the
+ * general loop (any finite doubles, subnormals included) */
+static int wide_form_general(const double *const *pts, int n, int64_t (*q)[3])
 {
     int64_t m[15];
     int k[15], K = 1 << 20;
@@ -252,6 +254,94 @@ static int wide_form(const double *const *pts, int n, int64_t (*q)[3])
     return 1;
 }
 
+/* The same integer form, fast: with 2^E <= max|x| < 2^(E+1) the form exists iff every
+ * coordinate is an integer multiple of 2^(E-59), i.e. iff every x * 2^(59-E) is an integer
+ * (then below 2^60 in magnitude).  When 2^(59-E) is a normal double, each product is exact
+ * unless it underflows, and an underflowed product is below 1: it is an integer only when it
+ * is 0, which the test (i != 0 || x == 0) rejects for x != 0.  So an accepted product is the
+ * exact x * 2^(59-E), and the form is the general one's times a power of two (the signs of
+ * the homogeneous predicates do not change).  It accepts exactly the tuples
+ * wide_form_general accepts (both: every coordinate a multiple of 2^(E-59)); a max below
+ * 2^-964 or subnormal (scale not a normal double) goes to the general loop. */
+static int wide_form(const double *const *pts, int n, int64_t (*q)[3])
+{
+    uint64_t mx = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++) {
+            uint64_t u;
+            memcpy(&u, &pts[i][j], sizeof u);
+            u &= ~(UINT64_C(1) << 63);
+            mx = u > mx ? u : mx;
+        }
+    if (mx >= UINT64_C(0x7ff0000000000000)) return 0; /* inf or NaN */
+    const int be = (int)(mx >> 52);                     /* 0: max is 0 or subnormal */
+    const int s = 59 - (be - 1023);                     /* E = be - 1023 */
+    if (be == 0 || s > 1023) return wide_form_general(pts, n, q);
+    const uint64_t fb = (uint64_t)(s + 1023) << 52;     /* s >= 59 - 1023 > -1022 */
+    double f;
+    memcpy(&f, &fb, sizeof f);
+    int ok = 1;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < 3; j++) {
+            const double x = pts[i][j], y = x * f;     /* |y| < 2^60 */
+            const int64_t v = (int64_t)y;
+            ok &= ((double)v == y) & ((v != 0) | (x == 0));
+            q[i][j] = v;
+        }
+    return ok;
+}
+
+/* insphere on the integer form, in limbs of radix 2^62 held in signed 64/128-bit integers
+ * (no carries inside a product: every partial product and every column sum is bounded below
+ * 2^127).  Bounds (|q| < 2^60):
+ *   differences p = q - q_e:        |p| < 2^61 (int64)
+ *   2x2 minors m = ab, ...:          |m| < 2^123, split m = mh 2^62 + ml, ml in [0, 2^62),
+ *                                    |mh| <= 2^61
+ *   3x3 minor, e.g. az bc - bz ac + cz ab = Sh 2^62 + Sl with Sh = sum z mh (|.| < 3 2^122)
+ *                                    and Sl = sum z ml (|.| < 3 2^123); normalized to
+ *                                    a2 2^124 + a1 2^62 + a0, a0, a1 in [0, 2^62),
+ *                                    |a2| <= 3 2^60 + 1
+ *   lifts w = |p|^2 < 3 2^122 = lh 2^62 + ll, ll in [0, 2^62), lh < 3 2^60
+ *   det = sum of four +-w*minor: columns of radix 2^62
+ *     c0 = sum +-ll a0                  |.| < 4 2^124 = 2^126
+ *     c1 = sum +-(ll a1 + lh a0)        |.| < 4 (2^124 + 3 2^122) = 7 2^124
+ *     c2 = sum +-(ll a2 + lh a1)        |.| < 4 (3 2^122 + 2^62 + 3 2^122) < 7 2^124
+ *     c3 = sum +-lh a2                  |.| < 4 (3 2^60)(3 2^60 + 1) < 2^126
+ *   and carrying c_k >> 62 (|.| < 2^65) into c_(k+1) stays below 2^127.  Then det =
+ *   c3' 2^186 + c2' 2^124 + c1' 2^62 + c0' with c0', c1', c2' in [0, 2^62): its sign is c3''s,
+ *   or 0 / +1 when c3' = 0.  ">> 62" on a negative signed value is the arithmetic shift (GCC
+ *   and Clang define it so), i.e. floor division: v = (v >> 62) 2^62 + (v & (2^62 - 1)). */
+#define R62 ((INT64_C(1) << 62) - 1)
+
+typedef struct { int64_t a0, a1, a2; } r62x3; /* a2 2^124 + a1 2^62 + a0 */
+
+/* z1 m1 + z2 m2 + z3 m3 for 2x2 minors given as (mh, ml) pairs */
+static inline r62x3 minor3(int64_t z1, const int64_t *m1, int64_t z2, const int64_t *m2,
+                           int64_t z3, const int64_t *m3)
+{
+    const i128 sh = (i128)z1 * m1[0] + (i128)z2 * m2[0] + (i128)z3 * m3[0];
+    const i128 sl = (i128)z1 * m1[1] + (i128)z2 * m2[1] + (i128)z3 * m3[1];
+    const i128 t = sh + (sl >> 62);
+    r62x3 r = {(int64_t)(sl & R62), (int64_t)(t & R62), (int64_t)(t >> 62)};
+    return r;
+}
+
+static inline void split62(i128 v, int64_t *hl)
+{
+    hl[0] = (int64_t)(v >> 62);
+    hl[1] = (int64_t)(v & R62);
+}
+
+/* c[0..3] += s * w * a (columns as above) */
+static inline void add_lift_minor(i128 *c, const int64_t *w, r62x3 a, int s)
+{
+    const int64_t lh = s * w[0], ll = s * w[1];
+    c[0] += (i128)ll * a.a0;
+    c[1] += (i128)ll * a.a1 + (i128)lh * a.a0;
+    c[2] += (i128)ll * a.a2 + (i128)lh * a.a1;
+    c[3] += (i128)lh * a.a2;
+}
+
 int pred_insphere_wide(const double *a, const double *b, const double *c, const double *d,
                        const double *e, int *sign)
 {
@@ -261,33 +351,34 @@ int pred_insphere_wide(const double *a, const double *b, const double *c, const 
     for (int k = 0; k < 4; k++)
         for (int j = 0; j < 3; j++) p[k][j] = q[k][j] - q[4][j];
     const int64_t *A = p[0], *B = p[1], *C = p[2], *D = p[3];
-    i128 ab = (i128)A[0] * B[1] - (i128)B[0] * A[1], bc = (i128)B[0] * C[1] - (i128)C[0] * B[1];
-    i128 cd = (i128)C[0] * D[1] - (i128)D[0] * C[1], da = (i128)D[0] * A[1] - (i128)A[0] * D[1];
-    i128 ac = (i128)A[0] * C[1] - (i128)C[0] * A[1], bd = (i128)B[0] * D[1] - (i128)D[0] * B[1];
-    /* same cofactors as the filter: abc = az bc - bz ac + cz ab, ... */
-    i192 abc = mul_z_minor(A[2], bc, 1), bcd = mul_z_minor(B[2], cd, 1);
-    i192 cda = mul_z_minor(C[2], da, 1), dab = mul_z_minor(D[2], ab, 1), t;
-    t = mul_z_minor(B[2], ac, -1), add_limbs(abc.w, t.w, 3);
-    t = mul_z_minor(C[2], ab, 1), add_limbs(abc.w, t.w, 3);
-    t = mul_z_minor(C[2], bd, -1), add_limbs(bcd.w, t.w, 3);
-    t = mul_z_minor(D[2], bc, 1), add_limbs(bcd.w, t.w, 3);
-    t = mul_z_minor(D[2], ac, 1), add_limbs(cda.w, t.w, 3);
-    t = mul_z_minor(A[2], cd, 1), add_limbs(cda.w, t.w, 3);
-    t = mul_z_minor(A[2], bd, 1), add_limbs(dab.w, t.w, 3);
-    t = mul_z_minor(B[2], da, 1), add_limbs(dab.w, t.w, 3);
-    u128 w[4];
+    int64_t ab[2], bc[2], cd[2], da[2], ac[2], bd[2], w[4][2];
+    split62((i128)A[0] * B[1] - (i128)B[0] * A[1], ab);
+    split62((i128)B[0] * C[1] - (i128)C[0] * B[1], bc);
+    split62((i128)C[0] * D[1] - (i128)D[0] * C[1], cd);
+    split62((i128)D[0] * A[1] - (i128)A[0] * D[1], da);
+    split62((i128)A[0] * C[1] - (i128)C[0] * A[1], ac);
+    split62((i128)B[0] * D[1] - (i128)D[0] * B[1], bd);
     for (int k = 0; k < 4; k++)
-        w[k] = (u128)((i128)p[k][0] * p[k][0]) + (u128)((i128)p[k][1] * p[k][1]) +
-               (u128)((i128)p[k][2] * p[k][2]);
+        split62((i128)p[k][0] * p[k][0] + (i128)p[k][1] * p[k][1] + (i128)p[k][2] * p[k][2],
+                w[k]);
+    /* same cofactors as the filter: abc = az bc - bz ac + cz ab, ... */
+    const r62x3 abc = minor3(A[2], bc, -B[2], ac, C[2], ab);
+    const r62x3 bcd = minor3(B[2], cd, -C[2], bd, D[2], bc);
+    const r62x3 cda = minor3(C[2], da, D[2], ac, A[2], cd);
+    const r62x3 dab = minor3(D[2], ab, A[2], bd, B[2], da);
     /* det = (cw*dab - dw*abc) + (aw*bcd - bw*cda) */
-    i320 r = mul_lift_det3(w[2], dab, 1), s;
-    s = mul_lift_det3(w[3], abc, -1), add_limbs(r.w, s.w, 5);
-    s = mul_lift_det3(w[0], bcd, 1), add_limbs(r.w, s.w, 5);
-    s = mul_lift_det3(w[1], cda, -1), add_limbs(r.w, s.w, 5);
-    if (r.w[4] >> 63) {
-        *sign = -1;
+    i128 col[4] = {0, 0, 0, 0};
+    add_lift_minor(col, w[2], dab, 1);
+    add_lift_minor(col, w[3], abc, -1);
+    add_lift_minor(col, w[0], bcd, 1);
+    add_lift_minor(col, w[1], cda, -1);
+    col[1] += col[0] >> 62;
+    col[2] += col[1] >> 62;
+    col[3] += col[2] >> 62;
+    if (col[3] != 0) {
+        *sign = col[3] > 0 ? 1 : -1;
     } else {
-        *sign = (r.w[0] | r.w[1] | r.w[2] | r.w[3] | r.w[4]) != 0;
+        *sign = ((col[0] & R62) | (col[1] & R62) | (col[2] & R62)) != 0;
     }
     return 1;
 }
