@@ -60,6 +60,10 @@ class Delaunay:
 
     threads: worker threads of the kernel (0 = all cores); the result does not depend on it.
     check:   run the exact checker on the result (raises CheckError if it fails).
+    memory_limit: the memory guard (gtet_options.memory_limit): None (default) estimates the
+             run's peak before the work and raises MemoryError at once ("needs about X, Y
+             available (MemAvailable)") when the machine (MemAvailable, the cgroup's limit,
+             ulimit -v) cannot give it; an int: that many bytes are available; "off": no guard.
 
     Raises ValueError for NaN or infinite coordinates (the message and ``.index`` name the
     point), DegenerateInputError (a ValueError, ``.dimension`` = 0, 1, 2 or -1 for no points)
@@ -81,14 +85,22 @@ class Delaunay:
     furthest_site = False
     NO_TET = _gigatet.NO_TET
 
-    def __init__(self, points, threads=0, check=False):
+    def __init__(self, points, threads=0, check=False, memory_limit=None):
         pts = _as_points(points)
         if pts.ndim != 2:
             raise ValueError("points must have shape (n, 3), got %s" % (pts.shape,))
         threads = operator.index(threads)
         if threads < 0:
             raise ValueError("threads must be >= 0 (0: all cores)")
-        self._mesh = _gigatet.triangulate(pts, threads, bool(check))
+        if memory_limit is None:
+            limit = 0
+        elif isinstance(memory_limit, str) and memory_limit == "off":
+            limit = -1
+        else:
+            limit = operator.index(memory_limit)
+            if limit <= 0:
+                raise ValueError("memory_limit must be None, 'off' or a number of bytes > 0")
+        self._mesh = _gigatet.triangulate(pts, threads, bool(check), limit)
         self.points = pts
         self.npoints = pts.shape[0]
         self.nsimplex = self._mesh.ntets

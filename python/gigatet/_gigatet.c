@@ -136,11 +136,17 @@ static npy_intp *first_occurrence(const gtet_mesh *mesh, size_t n, size_t nv)
 static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw)
 {
     (void)self;
-    static char *names[] = {"points", "threads", "check", NULL};
+    static char *names[] = {"points", "threads", "check", "memory_limit", NULL};
     PyObject *obj;
     int threads = 0, check = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|ip", names, &obj, &threads, &check))
+    Py_ssize_t memory_limit = 0;  /* gtet_options.memory_limit: 0 the machine, -1 off */
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|ipn", names, &obj, &threads, &check,
+                                     &memory_limit))
         return NULL;
+    if (memory_limit < -1) {
+        PyErr_SetString(PyExc_ValueError, "memory_limit must be bytes > 0, 0 (auto) or -1 (off)");
+        return NULL;
+    }
     if (!PyArray_Check(obj) || PyArray_TYPE((PyArrayObject *)obj) != NPY_DOUBLE ||
         PyArray_NDIM((PyArrayObject *)obj) != 2 ||
         PyArray_DIM((PyArrayObject *)obj, 1) != 3 ||
@@ -163,6 +169,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw)
     gtet_options_init(&opt);
     opt.threads = threads;
     opt.check = check;
+    opt.memory_limit = memory_limit == -1 ? SIZE_MAX : (size_t)memory_limit;
     opt.error = &err;
     memset(&err, 0, sizeof err);
     gtet_mesh *mesh = NULL;

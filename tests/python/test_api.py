@@ -74,6 +74,20 @@ def test_errors():
     assert issubclass(gigatet.CheckError, RuntimeError)
 
 
+def test_memory_limit():
+    """The memory guard: a limit the run cannot fit raises MemoryError at once, naming it;
+    "off" and a large value run; bad values are ValueError."""
+    pts = np.random.default_rng(5).random((2000, 3))
+    with pytest.raises(MemoryError, match="needs about .* available \\(the memory_limit option\\)"):
+        gigatet.Delaunay(pts, memory_limit=1 << 20)
+    n = gigatet.Delaunay(pts).nsimplex
+    assert gigatet.Delaunay(pts, memory_limit="off").nsimplex == n
+    assert gigatet.Delaunay(pts, memory_limit=1 << 34).nsimplex == n
+    for bad in (0, -5, "on"):
+        with pytest.raises((ValueError, TypeError)):
+            gigatet.Delaunay(pts, memory_limit=bad)
+
+
 def test_views_are_zero_copy_and_keep_the_mesh_alive():
     p = cube_points(3000)
     d = gigatet.Delaunay(p)
