@@ -125,6 +125,8 @@ typedef struct gtet_pred_counters {
     uint64_t sos_calls;         /* symbolic perturbation decisions (insphere and hull rule) */
     uint64_t sos_depth[4];      /* ... decided at perturbation term 1, 2, 3, 4 (insphere uses
                                    terms 1-2, the coplanar circle rule 1-4) */
+    uint64_t insphere_int122;   /* of insphere_int: decided by the 122-bit integer form (tuples
+                                   spanning 61-122 binades, which went to GMP before) */
 } gtet_pred_counters;
 
 /* Copy the calling thread's counters; reset them. */
@@ -186,13 +188,15 @@ typedef struct gtet_options {
 GTET_API void gtet_options_init(gtet_options *opts);
 
 /* The peak memory, in bytes, gtet_triangulate is estimated to need for n points with these
- * options (NULL: the defaults): the pages it touches at its peak (the insertion: the working
- * mesh, about 32 bytes per tet slot and 7 slots per point, plus the result's vertices and
- * input map and the kernel's per-point arrays, more with several threads; or the check, when
- * opts->check), and a few MiB fixed.  It does not count the caller's own input array (24 bytes
- * a point) nor anything the caller allocates.  Calibrated against measured peaks (uniform,
- * clustered, grid and sphere points, 1-2 threads): about 300-340 bytes per point for large n,
- * never more than a few percent below the measured peak. */
+ * options (NULL: the defaults): the pages it touches at its peak -- the insertion (the
+ * working mesh, 32 bytes per tet slot and about 7 slots per point, plus the kernel's
+ * per-point arrays, more with several threads), the compaction that follows it, or the exact
+ * check when opts->check -- and a few MiB fixed; with one thread about 280 bytes a point,
+ * with two 290, with the check 690.  It counts every array the library allocates, not the
+ * caller's input array (24 bytes a point) nor anything else the caller holds.  Calibrated
+ * against measured peaks (uniform, jittered, clustered, grid, sphere, heavy-tailed points,
+ * 1-2 threads, 100k-10M): never more than a few percent below them.  Inputs with many more
+ * tets per point than 7 (points on one sphere or paraboloid: 15-22) need up to 3x more. */
 GTET_API size_t gtet_estimate_memory(size_t n, const gtet_options *opts);
 
 /* The guard gtet_triangulate runs first, on its own: GTET_OK when a run of n points with

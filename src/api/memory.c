@@ -21,7 +21,10 @@
  *           8, shifted keys 8, and the pending keys pk 8 + tk 8 + ti 4 of the last BRIO round
  *           (5/6 of the points: the rounds grow by 6, brio.c brio_rounds)
  *   finish  (build.c kbuild_finish: the parallel state and vloc freed, finalize.c compacts in
- *           place and shrinks, then the result's vertices come back from sv): below insert
+ *           place and shrinks to the finite tets, then restore_vertices allocates the result's
+ *           vertices again while sv still exists): result 28, order 4, sv 24 and 32 bytes per
+ *           finite tet.  With one thread this is the run's peak (uniform 4M: 1211 MB RSS,
+ *           279 bytes a point less the input), with two the insertion's is as high
  *   check   (opts.check; src/check): result 28 + 32 per finite tet, plus the checker's arrays
  *           (MEM_CHECK_PER_TET, MEM_CHECK_PER_POINT, measured)
  *   records (opts.degeneracies): the threads' logs and their merged copy, 36 bytes a record,
@@ -70,6 +73,7 @@
 #define MEM_PT_ORDER 4        /* triangulate.c: the insertion order */
 #define MEM_PT_SORT 21        /* brio.c: keys 8, radix scratch tk 8 + ti 4, round 1 */
 #define MEM_PT_KERNEL 29      /* build.c: sv 24, ids 4; insert.c: vloc 1 */
+#define MEM_PT_SORTED 24      /* build.c: sv alone (the finish phase) */
 /* parallel.c allocates colour 1, keys 8, skeys 8 per point and pk 8 + tk 8 + ti 4 per pending
  * point of the last round (5/6 of them): 33.7 mapped; measured touched, two threads against
  * one: 17 (uniform, grid, sphere) to 26 (cauchy: the keys on the tight box) per point; in
@@ -126,9 +130,11 @@ void mem_estimate_run(size_t n_in, int threads, const gtet_options *opts, mem_es
         add(mul10(n, 10 * (MEM_PT_INPUT_MAP + MEM_PT_ORDER + MEM_PT_KERNEL)), par);
     uint64_t insert = add(kernel, mul10(n, MEM_SLOTS_TOUCHED_X10 * MEM_SLOT_BYTES));
     insert = add(insert, degen_bytes(n, T, opts));
-    uint64_t peak = max2(max2(dedup, sort), insert);
+    const uint64_t tets = mul10(n, MEM_TETS_PER_POINT_X10);
+    const uint64_t finish = add(mul10(n, 10 * (MEM_PT_RESULT + MEM_PT_ORDER + MEM_PT_SORTED)),
+                                mul10(tets, 10 * MEM_SLOT_BYTES));
+    uint64_t peak = max2(max2(max2(dedup, sort), insert), finish);
     if (opts->check) {
-        const uint64_t tets = mul10(n, MEM_TETS_PER_POINT_X10);
         uint64_t chk = add(mul10(n, 10 * (MEM_PT_RESULT + MEM_CHECK_PER_POINT)),
                            mul10(tets, 10 * (MEM_SLOT_BYTES + MEM_CHECK_PER_TET)));
         peak = max2(peak, chk);
