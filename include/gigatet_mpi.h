@@ -40,8 +40,12 @@ extern "C" {
 
 typedef struct gtet_mpi_stats {
     int ranks;                  /* size of the communicator */
-    int rounds;                 /* local triangulations this run needed (the same on every
-                                   rank): 1 when the seeded ghost layer was already enough */
+    int rounds;                 /* exchange rounds this run needed (the same on every rank): 1
+                                   when the seeded ghost layer was already enough; each later
+                                   round re-triangulates only its new points' cavity */
+    int rebuilds;               /* later rounds in which this rank triangulated its whole
+                                   local set again instead (0 unless that cavity could not be
+                                   patched: proofs/distributed.md D9) */
     uint64_t tile_points;       /* distinct points of this rank's tile */
     uint64_t ghost_points;      /* other tiles' points this rank triangulated with its own */
     uint64_t ghost_seeded;      /* ... of which it received in the seeding step */

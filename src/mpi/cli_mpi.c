@@ -486,12 +486,12 @@ static void print_stats(const args *a, const gtet_mpi_result *r, double seconds_
     for (int q = 0; q < g_size; q++) {
         const gtet_mpi_stats *s = &all[q];
         printf("%s{\"rank\":%d,\"tile_points\":%llu,\"ghost_points\":%llu,\"ghost_seeded\":%llu,"
-               "\"queries_sent\":%llu,\"bytes_sent\":%llu,\"bytes_sent_ghost\":%llu,"
+               "\"rebuilds\":%d,\"queries_sent\":%llu,\"bytes_sent\":%llu,\"bytes_sent_ghost\":%llu,"
                "\"tets\":%llu,\"seconds\":{\"validate\":%.6f,\"partition\":%.6f,"
                "\"triangulate\":%.6f,\"exchange\":%.6f,\"output\":%.6f,\"total\":%.6f}}",
                q ? "," : "", q, (unsigned long long)s->tile_points,
                (unsigned long long)s->ghost_points, (unsigned long long)s->ghost_seeded,
-               (unsigned long long)s->queries_sent, (unsigned long long)s->bytes_sent,
+               s->rebuilds, (unsigned long long)s->queries_sent, (unsigned long long)s->bytes_sent,
                (unsigned long long)s->bytes_sent_ghost,
                (unsigned long long)(r->tet_offsets[q + 1] - r->tet_offsets[q]),
                s->seconds_validate, s->seconds_partition, s->seconds_triangulate,

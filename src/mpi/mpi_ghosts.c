@@ -50,6 +50,9 @@ static gtet_status s_add_received(run *R, const mpt *rb, const size_t *rcnt, uin
 static gtet_status triangulate_local(run *R)
 {
     gtet_mesh_free(&R->mesh);
+    free(R->ptv);
+    free(R->ptn);
+    R->ptv = R->ptn = NULL;
     if (R->m == 0) return GTET_OK;
     for (int attempt = 0; attempt < 2; attempt++) {
         double *xyz = mx_malloc(3 * R->ns * sizeof *xyz);
@@ -240,7 +243,7 @@ void mx_sort4(uint64_t *k)
 }
 
 /* ghost order of the facet opposite f of local tet t: orient3d(a,b,c,apex) < 0 */
-static void hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3])
+void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3])
 {
     int j = 0;
     for (int i = 0; i < 4; i++)
@@ -258,14 +261,15 @@ static gtet_status make_queries(run *R, vec *out)
 {
     int P = R->c.size, me = R->c.rank;
     for (int q = 0; q < P; q++) out[q].rs = sizeof(query);
-    if (!R->mesh) {
+    size_t nt;
+    const uint32_t *tv, *nb;
+    mx_local_mesh(R, &nt, &tv, &nb);
+    if (!tv) {
         free(R->prev);
         R->prev = NULL;
         R->nprev = 0;
         return GTET_OK;
     }
-    size_t nt = gtet_mesh_num_tets(R->mesh);
-    const uint32_t *tv = gtet_mesh_tets(R->mesh), *nb = gtet_mesh_neighbors(R->mesh);
     vec keys = {NULL, 0, 0, 4 * sizeof(uint64_t)};
     size_t m = R->m;
     for (size_t t = 0; t < nt; t++) {
@@ -284,7 +288,7 @@ static gtet_status make_queries(run *R, vec *out)
                 int f = pass - 1;
                 if (nb[4 * t + f] != GTET_NO_TET) continue;
                 uint32_t h[3];
-                hull_facet(R, v, f, h);
+                mx_hull_facet(R, v, f, h);
                 if (h[0] >= m && h[1] >= m && h[2] >= m) continue;
                 for (int i = 0; i < 3; i++) {
                     memcpy(Q.p[i], R->sp[h[i]].x, sizeof Q.p[i]);
@@ -339,9 +343,16 @@ gtet_status mx_step_rounds(run *R)
     size_t *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
     if (!out || !rcnt) s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
+    size_t n_old = 0;
     for (int round = 1;; round++) {
         double t0 = mx_now();
-        s = triangulate_local(R);
+        /* later rounds re-triangulate only the new points' cavity (D9) when they can */
+        int done = 0;
+        if (round > 1) s = mx_patch(R, n_old, &done);
+        if (s == GTET_OK && !done) {
+            s = triangulate_local(R);
+            R->c.st->rebuilds += round > 1 && R->m;
+        }
         R->c.st->rounds = round;
         R->c.st->seconds_triangulate += mx_now() - t0;
         if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
@@ -362,6 +373,7 @@ gtet_status mx_step_rounds(run *R)
         if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
         if ((s = exchange_vecs(R, out, sizeof(mpt), &rb, rcnt, &rt)) != GTET_OK) goto done;
         uint64_t added = 0, gadded = 0;
+        n_old = R->ns;
         s = s_add_received(R, rb, rcnt, &added);
         free(rb);
         if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;

@@ -117,7 +117,9 @@ typedef struct run {
     hset have;                  /* vertex ids in S */
     hset sent;                  /* tile index * P + rank: sent to that rank */
     grid gr;
-    gtet_mesh *mesh;
+    gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
+    uint32_t *ptv, *ptn;        /* ... or, once patched (mx_patch), DT(S) as 4 vertex ids and */
+    size_t pnt;                 /* 4 neighbour tets (GTET_NO_TET on the hull) per tet */
     /* keys of the previous round's queried tets / hull facets, sorted */
     uint64_t (*prev)[4];
     size_t nprev;
@@ -162,5 +164,28 @@ gtet_status mx_grid_build(run *R);            /* the tile's grid of cells, R->gr
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
 
 void mx_sort4(uint64_t *k);                   /* 4 ids ascending (mpi_ghosts.c) */
+/* the hull facet opposite slot f of local tet tv, in ghost order (mpi_ghosts.c) */
+void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3]);
+/* later rounds: DT(S) -> DT(S u N), N = S's points from n_old on (mpi_patch.c); *done = 0
+ * when the caller must triangulate from scratch */
+gtet_status mx_patch(run *R, size_t n_old, int *done);
+
+/* the current local triangulation, patched or not (nothing: *nt = 0, NULL arrays) */
+static inline void mx_local_mesh(const run *R, size_t *nt, const uint32_t **tv,
+                                 const uint32_t **nb)
+{
+    if (R->ptv) {
+        *nt = R->pnt;
+        *tv = R->ptv;
+        *nb = R->ptn;
+    } else if (R->mesh) {
+        *nt = gtet_mesh_num_tets(R->mesh);
+        *tv = gtet_mesh_tets(R->mesh);
+        *nb = gtet_mesh_neighbors(R->mesh);
+    } else {
+        *nt = 0;
+        *tv = *nb = NULL;
+    }
+}
 
 #endif

@@ -32,9 +32,9 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     mctx *c = &R->c;
     int P = c->size, me = c->rank;
     gtet_status s = GTET_OK;
-    size_t nt = R->mesh ? gtet_mesh_num_tets(R->mesh) : 0;
-    const uint32_t *tv = R->mesh ? gtet_mesh_tets(R->mesh) : NULL;
-    const uint32_t *nb = R->mesh ? gtet_mesh_neighbors(R->mesh) : NULL;
+    size_t nt;
+    const uint32_t *tv, *nb;
+    mx_local_mesh(R, &nt, &tv, &nb);
     size_t m = R->m;
     uint64_t *gid = mx_malloc(nt * sizeof *gid);
     size_t *scnt = mx_calloc((size_t)P, sizeof *scnt), *rcnt = mx_calloc((size_t)P, sizeof *rcnt);

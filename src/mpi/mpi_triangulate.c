@@ -22,7 +22,8 @@
  *      tet ids rank by rank; neighbours across ranks by matching facets (D6-D7).
  *
  * The steps live in: mpi_ids.c (1-3), mpi_partition.c (4), mpi_ghosts.c (5-6, with the local
- * set and its triangulation), mpi_query.c (the queries' geometry and their answers),
+ * set and its triangulation), mpi_patch.c (a later round's cavity re-triangulation, D9),
+ * mpi_query.c (the queries' geometry and their answers),
  * mpi_output.c (7); mpi_internal.h declares what they share.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -62,6 +63,8 @@ static void run_free(run *R)
     free(R->gr.idx);
     free(R->prev);
     gtet_mesh_free(&R->mesh);
+    free(R->ptv);
+    free(R->ptn);
     free(R->c.sc);
 }
 
@@ -121,7 +124,7 @@ gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
     res.stats.seconds_exchange = mx_now() - t;
     if ((s = mx_step_rounds(&R)) != GTET_OK) goto fail;
     res.stats.ghost_points = R.ns - R.m;
-    if (opts && opts->check && R.mesh) {
+    if (opts && opts->check && R.mesh && !R.ptv) {
         /* the exact checker on this rank's local triangulation */
         double *pts = mx_malloc(3 * R.ns * sizeof *pts);
         if (!pts) {

@@ -1,0 +1,437 @@
+/* mpi_patch.c -- a later round's local triangulation without starting over: DT(S u N) from
+ * DT(S) by triangulating only the cavity of the new points N (proofs/distributed.md D9).
+ *
+ * C = the tets of DT(S) some point of N conflicts with, H = its hull facets some point of N
+ * conflicts with (exact predicates behind conservative filters).  Every tet of DT(S u N) not in
+ * DT(S) has its vertices in W = N u vertices(C) u vertices(H), so it is a tet of DT(W) (D2 on
+ * W); they fill the region bounded by the facets shared with the tets kept (DT(S) minus C) and
+ * by hull facets, and are found by a flood over DT(W) from the kept tets' cavity facets that
+ * never crosses one of those.  Any inconsistency (a cavity facet with no tet of DT(W) on its
+ * inner side, a flood that meets a kept tet's facet from the wrong tet, W flat) makes the caller
+ * triangulate S u N from scratch instead. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpi/mpi_internal.h"
+
+#define NONE UINT32_MAX
+
+/* a map from a facet (3 sorted local vertex ids) to a value, open addressing */
+typedef struct fmap {
+    uint32_t *k;   /* 4 per slot: 3 ids, value; k[4i] == NONE: empty */
+    size_t cap;
+} fmap;
+
+static void key3(uint32_t a, uint32_t b, uint32_t c, uint32_t out[3])
+{
+    if (a > b) { uint32_t t = a; a = b; b = t; }
+    if (b > c) { uint32_t t = b; b = c; c = t; }
+    if (a > b) { uint32_t t = a; a = b; b = t; }
+    out[0] = a;
+    out[1] = b;
+    out[2] = c;
+}
+
+static size_t fm_slot(const fmap *M, const uint32_t k[3])
+{
+    uint64_t h = mx_mix64(((uint64_t)k[0] << 32 | k[1]) ^ mx_mix64(k[2]));
+    size_t j = (size_t)h & (M->cap - 1);
+    while (M->k[4 * j] != NONE &&
+           (M->k[4 * j] != k[0] || M->k[4 * j + 1] != k[1] || M->k[4 * j + 2] != k[2]))
+        j = (j + 1) & (M->cap - 1);
+    return j;
+}
+
+static void fm_put(fmap *M, const uint32_t k[3], uint32_t v)
+{
+    size_t j = fm_slot(M, k);
+    memcpy(M->k + 4 * j, k, 3 * sizeof *k);
+    M->k[4 * j + 3] = v;
+}
+
+static uint32_t fm_get(const fmap *M, const uint32_t k[3])
+{
+    size_t j = fm_slot(M, k);
+    return M->k[4 * j] == NONE ? NONE - 1 : M->k[4 * j + 3];
+}
+
+/* the facet of tet (tv) opposite slot f, sorted */
+static void facet_key(const uint32_t *v, int f, uint32_t out[3])
+{
+    uint32_t a[3];
+    int j = 0;
+    for (int i = 0; i < 4; i++)
+        if (i != f) a[j++] = v[i];
+    key3(a[0], a[1], a[2], out);
+}
+
+typedef struct patch {
+    run *R;
+    size_t n_old, nt;
+    const uint32_t *tv, *nb;
+    uint8_t *cf;        /* per tet: bit 4 in conflict, bit f: hull facet f in conflict */
+    uint32_t *wid;      /* per S vertex: its index in W, or NONE */
+    uint32_t *ws;       /* per W vertex: its S index */
+    size_t nw;
+    gtet_mesh *wm;
+} patch;
+
+/* the new points in a grid of cells over their box (start: CSR offsets, idx: S indices) */
+typedef struct ngrid {
+    double box[6], inv[3];
+    int g[3];
+    uint32_t *start, *idx;
+} ngrid;
+
+static int ncell(const ngrid *G, int k, double x)
+{
+    double t = (x - G->box[k]) * G->inv[k];
+    if (!(t >= 0)) return 0;
+    if (t >= G->g[k]) return G->g[k] - 1;
+    return (int)t;
+}
+
+static size_t ncell_id(const ngrid *G, const double *x)
+{
+    return ((size_t)ncell(G, 2, x[2]) * (size_t)G->g[1] + (size_t)ncell(G, 1, x[1])) *
+               (size_t)G->g[0] + (size_t)ncell(G, 0, x[0]);
+}
+
+static int ngrid_build(ngrid *G, const run *R, size_t n_old)
+{
+    size_t nn = R->ns - n_old;
+    for (int k = 0; k < 3; k++) {
+        G->box[k] = INFINITY;
+        G->box[3 + k] = -INFINITY;
+    }
+    for (size_t i = n_old; i < R->ns; i++)
+        for (int k = 0; k < 3; k++) {
+            G->box[k] = fmin(G->box[k], R->sp[i].x[k]);
+            G->box[3 + k] = fmax(G->box[3 + k], R->sp[i].x[k]);
+        }
+    int g = (int)fmin(64, fmax(1, ceil(2 * cbrt((double)nn))));
+    size_t cells = 1;
+    for (int k = 0; k < 3; k++) {
+        double e = G->box[3 + k] - G->box[k];
+        G->g[k] = e > 0 ? g : 1;
+        G->inv[k] = e > 0 ? G->g[k] / e : 0;
+        if (!isfinite(G->inv[k])) {
+            G->g[k] = 1;
+            G->inv[k] = 0;
+        }
+        cells *= (size_t)G->g[k];
+    }
+    G->start = mx_calloc(cells + 1, sizeof *G->start);
+    G->idx = mx_malloc((nn + 1) * sizeof *G->idx);
+    if (!G->start || !G->idx) return -1;
+    for (size_t i = n_old; i < R->ns; i++) G->start[ncell_id(G, R->sp[i].x) + 1]++;
+    for (size_t c = 0; c < cells; c++) G->start[c + 1] += G->start[c];
+    for (size_t i = n_old; i < R->ns; i++) G->idx[G->start[ncell_id(G, R->sp[i].x)]++] = (uint32_t)i;
+    for (size_t c = cells; c > 0; c--) G->start[c] = G->start[c - 1];
+    G->start[0] = 0;
+    return 0;
+}
+
+/* does a new point conflict with tet v?  (cells the conservative ball reaches, D4) */
+static int tet_conflicts(const run *R, const ngrid *G, const uint32_t *v)
+{
+    const mpt *sp = R->sp;
+    ball B;
+    mx_tet_ball(sp[v[0]].x, sp[v[1]].x, sp[v[2]].x, sp[v[3]].x, &B);
+    if (!mx_ball_meets_box(&B, G->box)) return 0;
+    int lo[3] = {0, 0, 0}, hi[3] = {G->g[0] - 1, G->g[1] - 1, G->g[2] - 1};
+    if (!B.all)
+        for (int k = 0; k < 3; k++) {
+            double r = B.r * (1 + 1e-9);
+            lo[k] = ncell(G, k, B.c[k] - r);
+            hi[k] = ncell(G, k, B.c[k] + r);
+        }
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++)
+            for (int x = lo[0]; x <= hi[0]; x++) {
+                size_t c = ((size_t)z * (size_t)G->g[1] + (size_t)y) * (size_t)G->g[0] + (size_t)x;
+                for (uint32_t j = G->start[c]; j < G->start[c + 1]; j++) {
+                    const double *p = sp[G->idx[j]].x;
+                    if (!B.all) {
+                        double d0 = p[0] - B.c[0], d1 = p[1] - B.c[1], d2 = p[2] - B.c[2];
+                        if (sqrt(d0 * d0 + d1 * d1 + d2 * d2) > B.r * (1 + 1e-9)) continue;
+                    }
+                    if (gtet_insphere_sos(sp[v[0]].x, sp[v[1]].x, sp[v[2]].x, sp[v[3]].x, p) > 0)
+                        return 1;
+                }
+            }
+    return 0;
+}
+
+/* mark C and H: the tets and the hull facets some new point conflicts with (exact
+ * predicates; the grid and the balls only prune, D4); -1 out of memory */
+static int find_cavity(patch *X)
+{
+    const run *R = X->R;
+    const mpt *sp = R->sp;
+    ngrid G;
+    memset(&G, 0, sizeof G);
+    if (ngrid_build(&G, R, X->n_old) != 0) {
+        free(G.start);
+        free(G.idx);
+        return -1;
+    }
+    for (size_t t = 0; t < X->nt; t++) {
+        const uint32_t *v = X->tv + 4 * t;
+        if (tet_conflicts(R, &G, v)) X->cf[t] |= 16;
+        for (int f = 0; f < 4; f++) {
+            if (X->nb[4 * t + f] != GTET_NO_TET) continue;
+            uint32_t h[3];
+            mx_hull_facet(R, v, f, h);
+            if (!mx_halfspace_meets_box(sp[h[0]].x, sp[h[1]].x, sp[h[2]].x, G.box)) continue;
+            for (size_t i = X->n_old; i < R->ns; i++)
+                if (gtet_ghost_conflict(sp[h[0]].x, sp[h[1]].x, sp[h[2]].x, sp[i].x) > 0) {
+                    X->cf[t] |= (uint8_t)(1u << f);
+                    break;
+                }
+        }
+    }
+    free(G.start);
+    free(G.idx);
+    return 0;
+}
+
+/* W and its triangulation; 1 done, 0 fall back, -1 out of memory */
+static int triangulate_w(patch *X)
+{
+    const run *R = X->R;
+    for (size_t i = 0; i < R->ns; i++) X->wid[i] = NONE;
+    X->nw = 0;
+    for (size_t i = X->n_old; i < R->ns; i++) X->wid[i] = 0;
+    for (size_t t = 0; t < X->nt; t++)
+        if (X->cf[t])
+            for (int i = 0; i < 4; i++) X->wid[X->tv[4 * t + i]] = 0;
+    for (size_t i = 0; i < R->ns; i++)
+        if (X->wid[i] == 0) {
+            X->wid[i] = (uint32_t)X->nw;
+            X->ws[X->nw++] = (uint32_t)i;
+        }
+    double *xyz = mx_malloc(3 * X->nw * sizeof *xyz);
+    if (!xyz) return -1;
+    for (size_t j = 0; j < X->nw; j++) memcpy(xyz + 3 * j, R->sp[X->ws[j]].x, 3 * sizeof(double));
+    gtet_options o = R->lopt;
+    gtet_status s = gtet_triangulate(xyz, X->nw, &o, &X->wm);
+    free(xyz);
+    if (s == GTET_ERR_OUT_OF_MEMORY) return -1;
+    if (s != GTET_OK || gtet_mesh_num_vertices(X->wm) != X->nw) return 0;
+    const uint32_t *map = gtet_mesh_input_map(X->wm);
+    for (size_t j = 0; j < X->nw; j++)
+        if (map[j] != j) return 0;
+    return 1;
+}
+
+/* the cavity facets: a kept tet's facet across which the tet is in C or the hull facet is in
+ * H -> 4t+f; a hull facet of a tet of C not in H (stays a hull facet) -> NONE */
+static void cavity_facets(const patch *X, fmap *B, size_t *nkept_facets)
+{
+    *nkept_facets = 0;
+    for (size_t t = 0; t < X->nt; t++) {
+        const uint32_t *v = X->tv + 4 * t;
+        for (int f = 0; f < 4; f++) {
+            uint32_t u = X->nb[4 * t + f], k[3];
+            int inC = X->cf[t] & 16;
+            if (!inC && (u != GTET_NO_TET ? (X->cf[u] & 16) != 0 : (X->cf[t] >> f) & 1)) {
+                facet_key(v, f, k);
+                fm_put(B, k, (uint32_t)(4 * t + (size_t)f));
+                ++*nkept_facets;
+            } else if (inC && u == GTET_NO_TET && !((X->cf[t] >> f) & 1)) {
+                facet_key(v, f, k);
+                fm_put(B, k, NONE);
+            }
+        }
+    }
+}
+
+/* the tet of DT(W) on the other side of kept tet K's facet f than K, or NONE */
+static uint32_t inner_tet(const patch *X, const fmap *WF, uint32_t h)
+{
+    const mpt *sp = X->R->sp;
+    const uint32_t *v = X->tv + 4 * (h / 4), *wt = gtet_mesh_tets(X->wm);
+    const uint32_t *wn = gtet_mesh_neighbors(X->wm);
+    uint32_t k[3], a[3];
+    facet_key(v, (int)(h % 4), k);
+    uint32_t g = fm_get(WF, k);
+    if (g >= NONE - 1) return NONE;
+    for (int i = 0; i < 3; i++) a[i] = k[i];
+    int sk = gtet_orient3d(sp[a[0]].x, sp[a[1]].x, sp[a[2]].x, sp[v[h % 4]].x);
+    uint32_t cand[2] = {g / 4, wn[g] == GTET_NO_TET ? NONE : wn[g]};
+    for (int c = 0; c < 2; c++) {
+        if (cand[c] == NONE) continue;
+        const uint32_t *w = wt + 4 * (size_t)cand[c];
+        for (int j = 0; j < 4; j++) {
+            uint32_t s = X->ws[w[j]];
+            if (s == a[0] || s == a[1] || s == a[2]) continue;
+            if (gtet_orient3d(sp[a[0]].x, sp[a[1]].x, sp[a[2]].x, sp[s].x) == -sk && sk != 0)
+                return cand[c];
+        }
+    }
+    return NONE;
+}
+
+/* the flood over DT(W) from the kept cavity facets: fid[w] = its index among the new tets, or
+ * NONE; 1 consistent, 0 not (fall back) */
+static int flood(const patch *X, const fmap *B, const fmap *WF, size_t nkf, uint32_t *fid,
+                 uint32_t *stack, size_t *nnew)
+{
+    size_t nwt = gtet_mesh_num_tets(X->wm), top = 0, linked = 0;
+    const uint32_t *wt = gtet_mesh_tets(X->wm);
+    const uint32_t *wn = gtet_mesh_neighbors(X->wm);
+    *nnew = 0;
+    for (size_t w = 0; w < nwt; w++) fid[w] = NONE;
+    for (size_t i = 0; i < B->cap; i++) {
+        uint32_t h = B->k[4 * i + 3];
+        if (B->k[4 * i] == NONE || h == NONE) continue;
+        uint32_t w = inner_tet(X, WF, h);
+        if (w == NONE) return 0;
+        if (fid[w] == NONE) {
+            fid[w] = (uint32_t)(*nnew)++;
+            stack[top++] = w;
+        }
+    }
+    while (top) {
+        uint32_t w = stack[--top];
+        for (int g = 0; g < 4; g++) {
+            uint32_t k[3], sv[4];
+            for (int i = 0; i < 4; i++) sv[i] = X->ws[wt[4 * (size_t)w + i]];
+            facet_key(sv, g, k);
+            uint32_t b = fm_get(B, k);
+            if (b == NONE) {            /* stays a hull facet */
+                if (wn[4 * (size_t)w + g] != GTET_NO_TET) return 0;
+                continue;
+            }
+            if (b != NONE - 1) {        /* a kept tet's facet */
+                if (inner_tet(X, WF, b) != w) return 0;
+                linked++;
+                continue;
+            }
+            uint32_t u = wn[4 * (size_t)w + g];
+            if (u == GTET_NO_TET || fid[u] != NONE) continue;
+            fid[u] = (uint32_t)(*nnew)++;
+            stack[top++] = u;
+        }
+    }
+    return linked == nkf;
+}
+
+/* DT(S u N): the kept tets (renumbered in order), then the new ones; -1 out of memory */
+static int merge(patch *X, const fmap *B, const uint32_t *fid, size_t nnew)
+{
+    run *R = X->R;
+    const uint32_t *wt = gtet_mesh_tets(X->wm), *wn = gtet_mesh_neighbors(X->wm);
+    size_t nwt = gtet_mesh_num_tets(X->wm), nk = 0;
+    uint32_t *newt = mx_malloc((X->nt + 1) * sizeof *newt);
+    if (!newt) return -1;
+    for (size_t t = 0; t < X->nt; t++) newt[t] = (X->cf[t] & 16) ? NONE : (uint32_t)nk++;
+    size_t nt2 = nk + nnew;
+    uint32_t *tv = mx_malloc((4 * nt2 + 1) * sizeof *tv), *tn = mx_malloc((4 * nt2 + 1) * sizeof *tn);
+    if (!tv || !tn) {
+        free(newt);
+        free(tv);
+        free(tn);
+        return -1;
+    }
+    for (size_t t = 0; t < X->nt; t++) {
+        if (newt[t] == NONE) continue;
+        size_t o = newt[t];
+        for (int f = 0; f < 4; f++) {
+            uint32_t u = X->nb[4 * t + f];
+            tv[4 * o + f] = X->tv[4 * t + f];
+            tn[4 * o + f] = u != GTET_NO_TET ? newt[u] : GTET_NO_TET;  /* NONE: set below */
+            if (u == GTET_NO_TET && ((X->cf[t] >> f) & 1)) tn[4 * o + f] = NONE;
+        }
+    }
+    for (size_t w = 0; w < nwt; w++) {
+        if (fid[w] == NONE) continue;
+        size_t o = nk + fid[w];
+        uint32_t sv[4];
+        for (int i = 0; i < 4; i++) tv[4 * o + i] = sv[i] = X->ws[wt[4 * w + i]];
+        for (int g = 0; g < 4; g++) {
+            uint32_t k[3];
+            facet_key(sv, g, k);
+            uint32_t b = fm_get(B, k), u = wn[4 * w + g];
+            if (b != NONE && b != NONE - 1) {       /* across a kept tet's cavity facet */
+                size_t K = newt[b / 4];
+                tn[4 * o + g] = (uint32_t)K;
+                tn[4 * K + b % 4] = (uint32_t)o;
+            } else {
+                tn[4 * o + g] = u == GTET_NO_TET ? GTET_NO_TET : (uint32_t)nk + fid[u];
+            }
+        }
+    }
+    free(newt);
+    free(R->ptv);
+    free(R->ptn);
+    R->ptv = tv;
+    R->ptn = tn;
+    R->pnt = nt2;
+    return 1;
+}
+
+/* DT(S u N) from the current local triangulation DT(S), N = S's points from n_old on.
+ * *done = 0: the caller must triangulate from scratch (never a wrong mesh: see the file
+ * comment). */
+gtet_status mx_patch(run *R, size_t n_old, int *done)
+{
+    patch X;
+    memset(&X, 0, sizeof X);
+    X.R = R;
+    X.n_old = n_old;
+    *done = 0;
+    mx_local_mesh(R, &X.nt, &X.tv, &X.nb);
+    if (!X.tv || n_old == R->ns) return GTET_OK;
+    fmap B = {NULL, 0}, WF = {NULL, 0};
+    uint32_t *fid = NULL, *stack = NULL;
+    int ok = -1;
+    X.cf = mx_calloc(X.nt + 1, 1);
+    X.wid = mx_malloc((R->ns + 1) * sizeof *X.wid);
+    X.ws = mx_malloc((R->ns + 1) * sizeof *X.ws);
+    if (!X.cf || !X.wid || !X.ws) goto out;
+    if (find_cavity(&X) != 0) goto out;
+    size_t nc = 0;
+    for (size_t t = 0; t < X.nt; t++) nc += X.cf[t] != 0;
+    ok = 0;
+    if (nc == 0 || nc == X.nt) goto out;          /* nothing found, or nothing kept */
+    if ((ok = triangulate_w(&X)) != 1) goto out;
+    ok = -1;
+    size_t nwt = gtet_mesh_num_tets(X.wm);
+    for (B.cap = 64; B.cap < 8 * (4 * nc + 16); B.cap *= 2) {}
+    for (WF.cap = 64; WF.cap < 4 * (4 * nwt + 16); WF.cap *= 2) {}
+    B.k = mx_malloc(4 * B.cap * sizeof *B.k);
+    WF.k = mx_malloc(4 * WF.cap * sizeof *WF.k);
+    fid = mx_malloc((nwt + 1) * sizeof *fid);
+    stack = mx_malloc((nwt + 1) * sizeof *stack);
+    if (!B.k || !WF.k || !fid || !stack) goto out;
+    memset(B.k, 0xff, 4 * B.cap * sizeof *B.k);
+    memset(WF.k, 0xff, 4 * WF.cap * sizeof *WF.k);
+    size_t nkf, nnew;
+    cavity_facets(&X, &B, &nkf);
+    const uint32_t *wt = gtet_mesh_tets(X.wm);
+    for (size_t w = 0; w < nwt; w++)
+        for (int g = 0; g < 4; g++) {
+            uint32_t sv[4], k[3];
+            for (int i = 0; i < 4; i++) sv[i] = X.ws[wt[4 * w + i]];
+            facet_key(sv, g, k);
+            fm_put(&WF, k, (uint32_t)(4 * w + (size_t)g));
+        }
+    ok = flood(&X, &B, &WF, nkf, fid, stack, &nnew);
+    if (ok == 1) ok = merge(&X, &B, fid, nnew);
+    if (ok == 1) *done = 1;
+out:
+    free(X.cf);
+    free(X.wid);
+    free(X.ws);
+    gtet_mesh_free(&X.wm);
+    free(B.k);
+    free(WF.k);
+    free(fid);
+    free(stack);
+    if (*done) gtet_mesh_free(&R->mesh);   /* DT(S u N) lives in R->ptv, R->ptn */
+    return ok < 0 ? mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory") : GTET_OK;
+}
