@@ -5,9 +5,11 @@
  * nothing is computed or sorted -- or, when the BRIO had to refine crowded cells, 21-bit keys on
  * the tight box computed once per run; on an enlarged and shifted box in later passes, where
  * only the vertices of the mesh are re-keyed), are sorted by key and cut into one slice per
- * thread, never between equal keys.  The colour boundaries lie
- * halfway along the (looping) curve between two slices' neighbouring points, and they colour
- * every vertex the mesh holds by the end of the round (colour = the slice range its key falls
+ * thread, never between equal keys: at the coarsest Moore-cell boundary within 1/64 of a slice
+ * of equal counts, in a round's first pass from the origin on the loop whose cuts are coarsest
+ * (a dense cluster becomes one slice: NOTES.md E12; else halfway along the curve between two
+ * slices' neighbouring points).  The colour boundaries lie between two slices' neighbouring
+ * points (on that cell boundary, or halfway along the curve), and they colour every vertex the mesh holds by the end of the round (colour = the slice range its key falls
  * in); vertices of later rounds are never read.  Thread k inserts the points of slice k, and an
  * insertion goes ahead only if the walk and every tet of the cavity stay within tets of
  * thread k (all four vertices of colour k, or three once the run has switched: km_owned;
@@ -32,8 +34,9 @@
  * Obligations of proofs/parallel.md, where they are met: O1 colours and slice bounds computed
  * before the region, slices never split equal keys (kpar_slices, pass_parallel); O2 ownership checked before
  * a tet is marked dead, O8 no scan fallback, O10 rollback (km_insert / walk / rollback in
- * insert.c); O3 one thread: no colours (insert_serial); O4 start tets found read-only before the
- * region's barrier (find_start); O5 slots from free lists and atomic block claims that never pass
+ * insert.c); O3 one thread: no colours (insert_serial); O4 start and restart tets found
+ * read-only before the region's barrier (find_start, find_checkpoints: a thread whose last try
+ * was deferred walks on from the next checkpoint, NOTES.md E13); O5 slots from free lists and atomic block claims that never pass
  * the capacity (ensure_room); O6 arrays grow only between passes (kpar_round); O7 the retry
  * policy above (kpar_round); O9 vloc only for vertices of the thread's colour
  * (adjacency_fast_foreign for cavities with a foreign vertex, adjacency_hash for big ones);
@@ -201,6 +204,30 @@ static int find_start(kctx *c, int nthreads, const uint32_t *pts, size_t np)
     return scan_start(c, from, 1);
 }
 
+/* Restart tets along the slice (NOTES.md E13): ck[j] (0 < j < CHECKPOINTS) is a tet of this
+ * thread in conflict with one of the points at slice offset np j / CHECKPOINTS .. + 3, found
+ * like find_start's by walks that may cross any colour, or UINT32_MAX.  Read-only, before
+ * the pass's barrier (O4).  During the pass only this thread writes such a slot: it is its
+ * tet, which no other thread may kill, and once killed the slot is on its free list. */
+#define CHECKPOINTS 64
+static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, uint32_t ck[CHECKPOINTS])
+{
+    const kmesh *m = c->m;
+    const uint32_t last = c->last;
+    for (int j = 0; j < CHECKPOINTS; j++) ck[j] = UINT32_MAX;
+    for (int j = 1; np >= 4 * CHECKPOINTS && j < CHECKPOINTS; j++)
+        for (size_t i = np * (size_t)j / CHECKPOINTS, k = 0; k < 4; k++) {
+            const uint32_t t = km_locate(c, km_pt(m, pts[i + k]));
+            if (t == UINT32_MAX) break;
+            c->last = t;
+            if (km_owned(c, t)) {
+                ck[j] = t;
+                break;
+            }
+        }
+    c->last = last;
+}
+
 /* A key strictly after x and at most y, about halfway along the (looping) curve from x to y
  * (x itself when x == y). */
 static uint64_t key_mid(uint64_t x, uint64_t y)
@@ -209,7 +236,140 @@ static uint64_t key_mid(uint64_t x, uint64_t y)
     return (x + (d + 1) / 2) & KPAR_KEY_MASK;
 }
 
-/* Slices and colour ranges of a pass (O1).  pk[0..np) sorted, pts alongside.
+/* pk and pts become their cyclic order starting at index off (0 < off < np). */
+static void rotate_pending(uint64_t *pk, uint32_t *pts, size_t np, size_t off, uint64_t *tk,
+                           uint32_t *ti)
+{
+    memcpy(tk, pk, off * sizeof *tk);
+    memcpy(ti, pts, off * sizeof *ti);
+    memmove(pk, pk + off, (np - off) * sizeof *pk);
+    memmove(pts, pts + off, (np - off) * sizeof *pts);
+    memcpy(pk + (np - off), tk, off * sizeof *pk);
+    memcpy(pts + (np - off), ti, off * sizeof *pts);
+}
+
+/* Cuts on Moore cells (NOTES.md E12).  An aligned range of 8^j keys is one cube of the curve,
+ * so a cut at a key that is a multiple of 8^j leaves whole cubes of side 2^j cells on both
+ * sides.  The gap before sorted position i (gap 0: between the last key and the first, across
+ * the loop's origin) gets the level of the coarsest such key B in it: x < B <= y for the keys
+ * x, y on either side, B = y with the bits below the highest 3-bit digit where x and y differ
+ * cleared, level = that digit's rank from the bottom (0..20); 21 at the origin (B = 0); -1
+ * between equal keys (never a cut). */
+#define CUT_TOL 64   /* a cut moves at most slice / CUT_TOL points off the equal-count one */
+static int gap_level(const uint64_t *pk, size_t np, size_t i, uint64_t *bound)
+{
+    const uint64_t x = pk[i ? i - 1 : np - 1], y = pk[i];
+    if (x == y) return -1;
+    if (y < x) {  /* only at i == 0: the loop's origin */
+        *bound = 0;
+        return KEY_BITS;
+    }
+    const int h = 63 - __builtin_clzll(x ^ y);
+    *bound = y & ~((UINT64_C(1) << (h / 3 * 3)) - 1);
+    return h / 3;
+}
+
+/* The gap within tol of position t (cyclically) with the highest level, the nearest to t
+ * among those; -1 when every gap there lies between equal keys. */
+static long snap_cut(const uint64_t *pk, size_t np, size_t t, size_t tol)
+{
+    long best = -1;
+    int level = -1;
+    uint64_t b;
+    for (size_t d = 0; d <= tol; d++)
+        for (int side = 0; side < 2 - (d == 0); side++) {
+            const size_t i = side ? (t + np - d) % np : (t + d) % np;
+            const int l = gap_level(pk, np, i, &b);
+            if (l > level) level = l, best = (long)i;
+        }
+    return best;
+}
+
+/* The origin r in [0, s) of the cuts r + j s (j < nth) whose worst snapped cut is coarsest,
+ * the nearest to 0 on the loop among those.  Origin 0 when its cuts reach level KEY_BITS - 1
+ * (octant faces: only the origin's gap is coarser, so nothing beats it; uniform points with 2
+ * or 4 threads), without the search.  The search: the highest level within tol of every gap
+ * x at once (van Herk / Gil-Werman: block-wise prefix and suffix maxima over the gaps
+ * x - tol .. x + tol, blocks of w = 2 tol + 1), then each origin's worst cut; scratch holds
+ * 3 np + 4 tol bytes. */
+static size_t best_origin(const uint64_t *pk, size_t np, int nth, size_t s, size_t tol,
+                          int8_t *scratch)
+{
+    uint64_t b;
+    int worst0 = KEY_BITS;
+    for (int j = 1; j < nth; j++) {
+        const long g = snap_cut(pk, np, (size_t)j * s, tol);
+        const int l = g < 0 ? -1 : gap_level(pk, np, (size_t)g, &b);
+        if (l < worst0) worst0 = l;
+    }
+    if (worst0 >= KEY_BITS - 1) return 0;
+    const size_t w = 2 * tol + 1, n2 = np + 2 * tol;
+    int8_t *lev = scratch, *pre = scratch + np, *suf = pre + n2;
+    for (size_t i = 0; i < np; i++) lev[i] = (int8_t)gap_level(pk, np, i, &b);
+    for (size_t k = 0; k < n2; k++) {  /* extended index k is gap (k - tol) mod np */
+        const int8_t e = lev[(k + np - tol) % np];
+        pre[k] = (k % w == 0 || e > pre[k - 1]) ? e : pre[k - 1];
+    }
+    for (size_t k = n2; k-- > 0;) {
+        const int8_t e = lev[(k + np - tol) % np];
+        suf[k] = (k % w == w - 1 || k == n2 - 1 || e > suf[k + 1]) ? e : suf[k + 1];
+    }
+    size_t best = 0;
+    int best_score = -2;
+    for (size_t r = 0; r < s; r++) {
+        int score = KEY_BITS + 1;
+        for (int j = 0; j < nth && score >= best_score; j++) {
+            const size_t x = (r + (size_t)j * s) % np;  /* window: extended x .. x + 2 tol */
+            const int8_t a = suf[x], c = pre[x + w - 1];
+            const int m = a > c ? a : c;
+            if (m < score) score = m;
+        }
+        const size_t dist = r < s - r ? r : s - r, bdist = best < s - best ? best : s - best;
+        if (score > best_score || (score == best_score && dist < bdist)) best_score = score, best = r;
+    }
+    return best;
+}
+
+/* Slices cut at the coarsest Moore-cell boundaries within slice / CUT_TOL points of the equal
+ * counts (E12): origin 0 (mode 0), half a slice in (mode 1, a round's first retry: E6), or
+ * the origin whose cuts are coarsest (mode 2, a round's first pass: the cuts of a dense
+ * cluster that holds a slice's worth of points are its cube's faces).  The colour boundaries
+ * are the cells' keys B of the gaps (gap_level), so colour regions are unions of cubes.  0
+ * (nothing changed) when a slice is too small for any freedom or a window holds only equal
+ * keys: the caller then cuts by equal counts. */
+static int cut_on_cells(uint64_t *pk, uint32_t *pts, size_t np, int nth, int mode,
+                        uint64_t *tk, uint32_t *ti, size_t begin[], size_t end[],
+                        uint64_t rel[], uint64_t *bound0)
+{
+    const size_t s = np / (size_t)nth, tol = s / CUT_TOL;
+    if (tol == 0) return 0;
+    const size_t r = mode == 2 ? best_origin(pk, np, nth, s, tol, (int8_t *)tk)
+                               : mode == 1 ? s / 2 : 0;
+    size_t gap[256];
+    for (int j = 0; j < nth; j++) {
+        const long g = snap_cut(pk, np, (r + (size_t)j * s) % np, tol);
+        if (g < 0) return 0;
+        gap[j] = (size_t)g;
+    }
+    const size_t off = gap[0];
+    uint64_t b0 = 0, bk = 0;
+    gap_level(pk, np, off, &b0);
+    for (int j = 0; j < nth; j++) {  /* positions after the rotation by off, increasing */
+        const size_t at = (gap[j] + np - off) % np;
+        if (j > 0 && at <= begin[j - 1]) return 0;
+        begin[j] = at;
+        gap_level(pk, np, gap[j], &bk);
+        rel[j] = (bk - b0) & KPAR_KEY_MASK;
+    }
+    for (int j = 0; j < nth; j++) end[j] = j + 1 < nth ? begin[j + 1] : np;
+    if (off > 0) rotate_pending(pk, pts, np, off, tk, ti);
+    *bound0 = b0;
+    return 1;
+}
+
+/* Slices and colour ranges of a pass (O1).  pk[0..np) sorted, pts alongside.  First the cuts
+ * on Moore cells (cut_on_cells; rotate: 0 origin at the first key, 1 half a slice in, 2 the
+ * coarsest origin); when they are not possible, equal counts as follows.
  * The first retry of a round (rotate) keeps the tight box's keys -- no re-keying of the mesh --
  * and moves every cut by half a slice along the loop: pk and pts become the cyclic order
  * starting half a slice in (never between equal keys).  The deferred points lie near the last
@@ -228,17 +388,11 @@ static uint64_t key_mid(uint64_t x, uint64_t y)
 void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, uint64_t *tk,
                  uint32_t *ti, size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0)
 {
-    if (rotate) {
+    if (cut_on_cells(pk, pts, np, nth, rotate, tk, ti, begin, end, rel, bound0)) return;
+    if (rotate == 1) {
         size_t off = np / (2 * (size_t)nth);
         while (off > 0 && off < np && pk[off] == pk[off - 1]) off++;
-        if (off > 0 && off < np) {
-            memcpy(tk, pk, off * sizeof *tk);
-            memcpy(ti, pts, off * sizeof *ti);
-            memmove(pk, pk + off, (np - off) * sizeof *pk);
-            memmove(pts, pts + off, (np - off) * sizeof *pts);
-            memcpy(pk + (np - off), tk, off * sizeof *pk);
-            memcpy(pts + (np - off), ti, off * sizeof *pts);
-        }
+        if (off > 0 && off < np) rotate_pending(pk, pts, np, off, tk, ti);
     }
     size_t prev = 0;
     for (int k = 0; k < nth; k++) {
@@ -300,7 +454,8 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
     }
     if (unsorted) sort_radix_pairs(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
     uint64_t rel[256], bound0;
-    kpar_slices(pk, pts, np, nth, pass == 1, P->tk, P->ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, P->tk, P->ti, begin, end, rel,
+                &bound0);
     uint8_t *col = P->colour;
 #pragma omp parallel for num_threads(nth) schedule(static)
     for (size_t v = 0; v < nmesh; v++) {
@@ -324,8 +479,13 @@ static void pass_error(int *status, gtet_status s)
  * moved to pts[b..b+*nd) in order.  A thread whose insertions almost all fail stops trying
  * (GIVE_UP); so does every thread once one has failed (the shared *status, read atomically). */
 static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_start,
-                         int *status, size_t *nd_out, size_t *tried_out)
+                         const uint32_t ck[CHECKPOINTS], int *status, size_t *nd_out,
+                         size_t *tried_out)
 {
+    const kmesh *m = c->m;
+    int stale = 0;  /* the last try was deferred: c->last may be a tet no walk gets out of */
+    int next_ck = 1;
+    size_t next_at = b + (e - b) / CHECKPOINTS;
     const size_t probe = (e - b) / GIVE_UP_PROBE > GIVE_UP_MIN ? (e - b) / GIVE_UP_PROBE
                                                                : GIVE_UP_MIN;
     size_t nd = 0, tried = 0;
@@ -336,8 +496,15 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
         int failed;
 #pragma omp atomic read
         failed = *status;
+        if (i == next_at && next_ck < CHECKPOINTS) {
+            const uint32_t t = ck[next_ck];
+            if (stale && t != UINT32_MAX && !km_dead(m, t)) c->last = t;
+            next_ck++;
+            next_at = b + (e - b) * (size_t)next_ck / CHECKPOINTS;
+        }
         if (have_start && !failed && !c->out_of_room && !give_up) {
             s = km_insert(c, pts[i], &deferred);
+            stale = deferred;
             tried++;
             give_up = tried >= probe && (tried - nd - deferred) * GIVE_UP_RATE < tried;
         }
@@ -369,8 +536,10 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
         c->own_min = P->own3 ? 3 : 4;
         c->out_of_room = 0;
         int have_start = find_start(c, nth, pts + begin[tid], end[tid] - begin[tid]);
+        uint32_t ck[CHECKPOINTS];
+        find_checkpoints(c, pts + begin[tid], end[tid] - begin[tid], ck);
 #pragma omp barrier
-        insert_slice(c, pts, begin[tid], end[tid], have_start, &status, &ndef[tid],
+        insert_slice(c, pts, begin[tid], end[tid], have_start, ck, &status, &ndef[tid],
                      &ntried[tid]);
         gtet_status fs = km_flush_block(c);
         if (fs != GTET_OK) pass_error(&status, fs);
