@@ -125,6 +125,8 @@ typedef struct gtet_pred_counters {
     uint64_t sos_calls;         /* symbolic perturbation decisions (insphere and hull rule) */
     uint64_t sos_depth[4];      /* ... decided at perturbation term 1, 2, 3, 4 (insphere uses
                                    terms 1-2, the coplanar circle rule 1-4) */
+    uint64_t insphere_int122;   /* of insphere_int: decided by the 122-bit integer form (tuples
+                                   spanning 61-122 binades, which went to GMP before) */
 } gtet_pred_counters;
 
 /* Copy the calling thread's counters; reset them. */

@@ -36,10 +36,10 @@ static void print_counts(const char *what, const gtet_pred_counters *c)
            (unsigned long long)c->orient_int,
            (unsigned long long)(c->orient_exact - c->orient_int - c->orient_gmp),
            (unsigned long long)c->orient_gmp, (unsigned long long)c->orient_zero);
-    printf("  insphere  calls %10llu  filter %10llu (%6.2f%%)  exact: integer %9llu  expansion %9llu"
-           "  gmp %7llu  zero %9llu\n", ic, ic - c->insphere_exact,
+    printf("  insphere  calls %10llu  filter %10llu (%6.2f%%)  exact: integer %9llu (122-bit form"
+           " %llu)  expansion %9llu  gmp %7llu  zero %9llu\n", ic, ic - c->insphere_exact,
            ic ? 100.0 * (double)(ic - c->insphere_exact) / (double)ic : 0.0,
-           (unsigned long long)c->insphere_int,
+           (unsigned long long)c->insphere_int, (unsigned long long)c->insphere_int122,
            (unsigned long long)(c->insphere_exact - c->insphere_int - c->insphere_gmp),
            (unsigned long long)c->insphere_gmp, (unsigned long long)c->insphere_zero);
     printf("  perturbation decisions %llu (term 1: %llu, term 2: %llu, term 3: %llu, term 4: %llu)\n",
@@ -49,6 +49,7 @@ static void print_counts(const char *what, const gtet_pred_counters *c)
     if (c->orient_exact > c->orient_calls || c->orient_int + c->orient_gmp > c->orient_exact ||
         c->orient_zero > c->orient_exact || c->insphere_exact > c->insphere_calls ||
         c->insphere_int + c->insphere_gmp > c->insphere_exact ||
+        c->insphere_int122 > c->insphere_int ||
         c->insphere_zero > c->insphere_exact ||
         c->sos_depth[0] + c->sos_depth[1] + c->sos_depth[2] + c->sos_depth[3] != c->sos_calls)
         consistent = 0;
@@ -198,6 +199,7 @@ static int f_i_wide(int t) { int s = 0; pred_insphere_wide(tup[t][0], tup[t][1],
 static int f_o_exp(int t) { int s = 0; pred_orient3d_exp(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &s); return s; }
 static int f_i_exp(int t) { int s = 0; pred_insphere_exp(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
 static int f_o_gmp(int t) { return pred_orient3d_gmp(tup[t][0], tup[t][1], tup[t][2], tup[t][3]); }
+static int f_i_w122(int t) { int s = 0; pred_insphere_wide122(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4], &s); return s; }
 static int f_i_gmp(int t) { return pred_insphere_gmp(tup[t][0], tup[t][1], tup[t][2], tup[t][3], tup[t][4]); }
 static gtet_pred_counters tc;
 static int f_o_chain(int t) { return pred_orient3d(tup[t][0], tup[t][1], tup[t][2], tup[t][3], &tc); }
@@ -233,6 +235,7 @@ static void timing(void)
     time_stage("insphere expansions translated, random [0,1)", K_RANDOM, f_i_exp, 100000);
     time_stage("insphere 60-bit integer form, unit sphere", K_SPHERE, f_i_wide, 1000000);
     time_stage("insphere 60-bit integer form, random [0,1)", K_RANDOM, f_i_wide, 1000000);
+    time_stage("insphere 122-bit integer form, unit sphere", K_SPHERE, f_i_w122, 300000);
     time_stage("insphere gmp, unit sphere", K_SPHERE, f_i_gmp, 100000);
     time_stage("insphere full chain, unit sphere", K_SPHERE, f_i_chain, 100000);
     time_stage("insphere gmp, random [0,1)", K_RANDOM, f_i_gmp, 300000);

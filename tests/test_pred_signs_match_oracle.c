@@ -22,7 +22,8 @@
 #include <string.h>
 
 typedef struct stage_stats {
-    long tuples, filter_decided, zero_bound_wrong, int_used, wide_used, exp_used, zero, bad;
+    long tuples, filter_decided, zero_bound_wrong, int_used, wide_used, wide122_used, exp_used,
+        zero, bad;
 } stage_stats;
 
 /* The computed extents of the tuple's box: the static bounds a caller holding exactly these
@@ -91,6 +92,7 @@ static void check_insphere(double (*p)[3])
     si.zero_bound_wrong += f0 != 0 && f0 != ref;
     if (pred_insphere_int(a, b, c, d, e, &s)) si.int_used++, ok &= s == ref;
     if (pred_insphere_wide(a, b, c, d, e, &s)) si.wide_used++, ok &= s == ref;
+    if (pred_insphere_wide122(a, b, c, d, e, &s)) si.wide122_used++, ok &= s == ref;
     if (pred_insphere_exp(a, b, c, d, e, &s)) si.exp_used++, ok &= s == ref;
     if (si.tuples % 3 == 0) ok &= pred_insphere_gmp(a, b, c, d, e) == ref;
     ok &= pred_insphere(a, b, c, d, e, &cnt) == ref;
@@ -268,6 +270,7 @@ static void test_points_rounded_onto_a_sphere_match_oracle(void)
     report("rounded onto a sphere");
     TEST_CHECK(si.filter_decided < si.tuples, "sphere points never reached the exact stage");
     TEST_CHECK(si.wide_used > si.tuples / 2, "60-bit integer form barely used: %ld", si.wide_used);
+    TEST_CHECK(si.wide122_used > si.wide_used, "the 122-bit form refused a 60-bit tuple");
 }
 
 /* Subnormals, 2^-1074, 2^1000, near DBL_MAX and mixtures. */
@@ -472,6 +475,69 @@ static void test_wide_integer_form_at_its_limits_match_oracle(void)
     }
 }
 
+/* The 122-bit integer form (exact_int.c: pred_insphere_wide122) on what it exists for and at
+ * its limits: (1) points rounded onto a sphere with one coordinate moved near 0 (times 2^-8 ..
+ * 2^-60: the tuple spans 61-122 binades, the 60-bit form refuses it), (2) integers up to the
+ * largest double below 2^122, (2^53 - 1) 2^69, from the extremes and 53-bit random integers
+ * shifted by 0-69 bits, at scales 2^-1074 .. 2^850, (3) e equal to one of a..d (exact zeros)
+ * in such tuples.  Every answer against the oracle; 122 bits of span accepted, 123 refused. */
+static void test_122_bit_integer_form_match_oracle(void)
+{
+    const int64_t top53 = ((int64_t)1 << 53) - 1;
+    tu_rng r = {2029};
+    reset();
+    long wide_span = 0;
+    for (int t = 0; t < 12000; t++) {
+        double p[5][3];
+        const int mode = t % 3;
+        const int k = t % 4 == 0 ? 0 : -1074 + (int)tu_below(&r, 1924);
+        for (int i = 0; i < 5; i++) {
+            double v[3], n2;
+            do {
+                for (int j = 0; j < 3; j++) v[j] = 2 * tu_uniform(&r) - 1;
+                n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            } while (n2 < 0.01 || n2 > 1);
+            for (int j = 0; j < 3; j++) {
+                if (mode == 0) {
+                    p[i][j] = v[j] / sqrt(n2);
+                } else {
+                    const uint64_t w = tu_below(&r, 8);
+                    const double x = w == 0 ? ldexp((double)top53, 69) : w == 1 ? 0x1p121
+                                   : w == 2 ? 1.0 : w == 3 ? 0.0
+                                   : ldexp((double)pg_int(&r, top53), (int)tu_below(&r, 70));
+                    p[i][j] = ldexp((tu_next(&r) & 1) ? -x : x, k);
+                }
+            }
+        }
+        if (mode == 0) {  /* one coordinate near 0 */
+            const int i = (int)tu_below(&r, 5), j = (int)tu_below(&r, 3);
+            p[i][j] = ldexp(p[i][j], -8 - (int)tu_below(&r, 53));
+        }
+        if (t % 5 == 0) memcpy(p[4], p[tu_below(&r, 4)], sizeof p[4]);  /* exact zero */
+        int s;
+        wide_span += !pred_insphere_wide(p[0], p[1], p[2], p[3], p[4], &s);
+        check_insphere(p);
+    }
+    report("122-bit integer form");
+    TEST_CHECK(si.bad == 0, "%ld insphere mismatches", si.bad);
+    TEST_CHECK(wide_span > 3000, "too few tuples beyond the 60-bit form: %ld", wide_span);
+    TEST_CHECK(si.wide122_used == si.tuples, "the 122-bit form refused %ld of %ld tuples",
+               si.tuples - si.wide122_used, si.tuples);
+    TEST_CHECK(si.zero >= 2400, "too few exact zeros: %ld", si.zero);
+    for (int k = -1000; k <= 800; k += 1800) {
+        double q[5][3] = {{0x1p121, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {1, 0, 1}};
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) q[i][j] = ldexp(q[i][j], k);
+        int sgn;
+        TEST_CHECK(pred_insphere_wide122(q[0], q[1], q[2], q[3], q[4], &sgn) &&
+                       sgn == orc_insphere(q[0], q[1], q[2], q[3], q[4]),
+                   "a 122-bit span refused or wrong at 2^%d", k);
+        q[4][0] = ldexp(0.5, k);  /* one bit lower: 123 bits */
+        TEST_CHECK(!pred_insphere_wide122(q[0], q[1], q[2], q[3], q[4], &sgn),
+                   "a 123-bit span accepted at 2^%d", k);
+    }
+}
+
 int main(void)
 {
     TU_RUN(test_random_unit_doubles_match_oracle);
@@ -484,5 +550,6 @@ int main(void)
     TU_RUN(test_lattice_filters_are_exact_within_the_proved_extents);
     TU_RUN(test_axis_aligned_planes_match_oracle);
     TU_RUN(test_wide_integer_form_at_its_limits_match_oracle);
+    TU_RUN(test_122_bit_integer_form_match_oracle);
     return tu_finish();
 }

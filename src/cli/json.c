@@ -15,6 +15,7 @@ static const struct pred_field {
     PRED_FIELD(orient_gmp),     PRED_FIELD(orient_zero),    PRED_FIELD(insphere_calls),
     PRED_FIELD(insphere_exact), PRED_FIELD(insphere_int),   PRED_FIELD(insphere_gmp),
     PRED_FIELD(insphere_zero),  PRED_FIELD(sos_calls),      PRED_FIELD(sos_depth),
+    PRED_FIELD(insphere_int122),
 };
 #undef PRED_FIELD
 /* Every uint64_t of the struct is in the list: a field added to gigatet.h fails here (the

@@ -58,6 +58,7 @@ static void add_counters(gtet_pred_counters *s, const gtet_pred_counters *a)
     s->insphere_zero += a->insphere_zero;
     s->sos_calls += a->sos_calls;
     for (int i = 0; i < 4; i++) s->sos_depth[i] += a->sos_depth[i];
+    s->insphere_int122 += a->insphere_int122;
 }
 
 /* Order of the merged degeneracy records: kind, vertex ids in argument order, term, sign. */

@@ -454,3 +454,146 @@ int pred_lifted2d_wide(const double *a, const double *b, const double *c, const 
         *sign = (r.w[0] | r.w[1] | r.w[2] | r.w[3] | r.w[4]) != 0;
     return 1;
 }
+
+/* ---- the 122-bit integer form (insphere) --------------------------------------------------
+ * Tuples whose bits span 61 to 122 binades (points rounded onto a sphere with a coordinate
+ * near 0: its ulp is far below the others') used to go to GMP, whose allocations made them
+ * ~25 times dearer than the 60-bit form.  Here the same integer form (common power of two
+ * removed), every integer below 2^122 (__int128), in short digit vectors on the stack:
+ *   a dv is sum d[i] 2^(60 i), d[i] in [0, 2^60) below the top digit, the top digit signed
+ *   with |d[n-1]| <= 2^60 (dv_norm).  A sum of products (dv_dot) adds, per column, at most
+ *   sum over its products of min(na, nb) <= 4 * 5 = 20 digit products of magnitude <= 2^120:
+ *   below 2^125 (__int128), normalized once.
+ * Sizes: differences < 2^123 (3 digits), 2x2 minors < 2^247 (5), 3x3 minors < 3 2^370 (7),
+ * lifts < 3 2^246 (5), det < 2^621 (11 digits; with carries <= DV_MAX).  ">> 60" on a
+ * negative __int128 is the arithmetic shift (floor), as for the 60-bit form above. */
+#define DV_MAX 16
+#define R60 ((INT64_C(1) << 60) - 1)
+typedef struct { int n; int64_t d[DV_MAX]; } dv;
+
+/* r = sum c[k] 2^(60 k), k < n, normalized (|c[k]| < 2^126). */
+static void dv_norm(const i128 *c, int n, dv *r)
+{
+    i128 carry = 0;
+    int k = 0;
+    for (; k < n; k++) {
+        const i128 v = c[k] + carry;
+        r->d[k] = (int64_t)(v & R60);
+        carry = v >> 60;                    /* floor: v = carry 2^60 + d */
+    }
+    while (carry != 0 && carry != -1) {
+        r->d[k++] = (int64_t)(carry & R60);
+        carry >>= 60;
+    }
+    if (carry == -1) r->d[k - 1] -= (int64_t)1 << 60;  /* the top digit takes the -2^(60k) */
+    while (k > 1 && r->d[k - 1] == 0) k--;
+    r->n = k;
+}
+
+/* r = sum of s[i] x[i] y[i], i < np (np <= 4) */
+static void dv_dot(const dv *const *x, const dv *const *y, const int *s, int np, dv *r)
+{
+    i128 c[DV_MAX];
+    int n = 0;
+    for (int i = 0; i < np; i++)
+        if (x[i]->n + y[i]->n - 1 > n) n = x[i]->n + y[i]->n - 1;
+    for (int k = 0; k < n; k++) c[k] = 0;
+    for (int i = 0; i < np; i++) {
+        const dv *a = x[i], *b = y[i];
+        for (int j = 0; j < a->n; j++) {
+            const i128 aj = s[i] < 0 ? -(i128)a->d[j] : (i128)a->d[j];
+            for (int l = 0; l < b->n; l++) c[j + l] += aj * b->d[l];
+        }
+    }
+    dv_norm(c, n, r);
+}
+
+static int dv_sign(const dv *a)
+{
+    if (a->n > 1 || a->d[0] != 0) return a->d[a->n - 1] < 0 ? -1 : 1;
+    return 0;  /* lower digits are >= 0, so a nonzero value has a nonzero top of its sign */
+}
+
+/* integer form of n points with every integer below 2^122, as __int128 */
+static int wide_form_122(const double *const *pts, int n, i128 (*q)[3])
+{
+    int64_t m[15];
+    int k[15], K = 1 << 20;
+    for (int idx = 0; idx < 3 * n; idx++) {
+        uint64_t u;
+        memcpy(&u, &pts[idx / 3][idx % 3], sizeof u);
+        const int be = (int)((u >> 52) & 0x7ff);
+        uint64_t mant = (u & ((UINT64_C(1) << 52) - 1)) | (be ? UINT64_C(1) << 52 : 0);
+        if (be == 0x7ff) return 0;
+        m[idx] = 0;
+        k[idx] = 0;
+        if (mant == 0) continue;
+        const int tz = __builtin_ctzll(mant);
+        mant >>= tz;
+        k[idx] = (be ? be - 1075 : -1074) + tz;
+        m[idx] = (u >> 63) ? -(int64_t)mant : (int64_t)mant;
+        if (k[idx] < K) K = k[idx];
+    }
+    for (int idx = 0; idx < 3 * n; idx++) {
+        i128 v = 0;
+        if (m[idx] != 0) {
+            const int bits = 64 - __builtin_clzll((uint64_t)(m[idx] < 0 ? -m[idx] : m[idx]));
+            const int sh = k[idx] - K;
+            if (sh > 122 || bits + sh > 122) return 0;
+            v = (i128)m[idx] * ((i128)1 << sh);
+        }
+        q[idx / 3][idx % 3] = v;
+    }
+    return 1;
+}
+
+/* xy minor u_x v_y - v_x u_y */
+static void dv_minor(const dv *u, const dv *v, dv *r)
+{
+    const dv *x[2] = {&u[0], &v[0]}, *y[2] = {&v[1], &u[1]};
+    static const int s[2] = {1, -1};
+    dv_dot(x, y, s, 2, r);
+}
+
+/* z1 m1 + s2 z2 m2 + z3 m3 */
+static void dv_det3(const dv *z1, const dv *m1, const dv *z2, const dv *m2, int s2,
+                    const dv *z3, const dv *m3, dv *r)
+{
+    const dv *x[3] = {z1, z2, z3}, *y[3] = {m1, m2, m3};
+    const int s[3] = {1, s2, 1};
+    dv_dot(x, y, s, 3, r);
+}
+
+int pred_insphere_wide122(const double *a, const double *b, const double *c, const double *d,
+                          const double *e, int *sign)
+{
+    const double *pts[5] = {a, b, c, d, e};
+    i128 q[5][3];
+    if (!wide_form_122(pts, 5, q)) return 0;
+    dv p[4][3];
+    for (int k = 0; k < 4; k++)
+        for (int j = 0; j < 3; j++) {
+            const i128 v = q[k][j] - q[4][j];  /* < 2^123 */
+            dv_norm(&v, 1, &p[k][j]);
+        }
+    const dv *A = p[0], *B = p[1], *C = p[2], *D = p[3];
+    dv ab, bc, cd, da, ac, bd, abc, bcd, cda, dab, w[4], det;
+    dv_minor(A, B, &ab), dv_minor(B, C, &bc), dv_minor(C, D, &cd);
+    dv_minor(D, A, &da), dv_minor(A, C, &ac), dv_minor(B, D, &bd);
+    static const int plus[4] = {1, 1, 1, 1};
+    for (int k = 0; k < 4; k++) {
+        const dv *x[3] = {&p[k][0], &p[k][1], &p[k][2]};
+        dv_dot(x, x, plus, 3, &w[k]);  /* the lift |p|^2 */
+    }
+    /* the filter's cofactors: abc = az bc - bz ac + cz ab, ... */
+    dv_det3(&A[2], &bc, &B[2], &ac, -1, &C[2], &ab, &abc);
+    dv_det3(&B[2], &cd, &C[2], &bd, -1, &D[2], &bc, &bcd);
+    dv_det3(&C[2], &da, &D[2], &ac, 1, &A[2], &cd, &cda);
+    dv_det3(&D[2], &ab, &A[2], &bd, 1, &B[2], &da, &dab);
+    /* det = (cw*dab - dw*abc) + (aw*bcd - bw*cda) */
+    const dv *x[4] = {&w[2], &w[3], &w[0], &w[1]}, *y[4] = {&dab, &abc, &bcd, &cda};
+    static const int s[4] = {1, -1, 1, -1};
+    dv_dot(x, y, s, 4, &det);
+    *sign = dv_sign(&det);
+    return 1;
+}

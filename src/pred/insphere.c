@@ -1,7 +1,9 @@
 /* insphere.c -- insphere as one chain: filter (filter.h) -> small integers -> 60-bit integer
- * form (fixed-width, exact_int.c) -> expansions -> GMP (pred_internal.h); same argument as
- * orient3d.c.  The integer form decides near-co-spherical non-integer tuples (points rounded
- * onto a sphere: the filter decides none of them) without GMP's allocations. */
+ * form -> 122-bit integer form (exact_int.c) -> expansions -> GMP (pred_internal.h); same
+ * argument as orient3d.c.  The integer forms decide near-co-spherical non-integer tuples
+ * (points rounded onto a sphere: the filter decides none of them) without GMP's allocations;
+ * the 122-bit form takes the ~3% of them that span more than 60 binades (a coordinate near
+ * 0, whose ulp is far below the others'). */
 #include "filter.h"
 #include "pred_internal.h"
 
@@ -40,13 +42,19 @@ static int insphere_axis_plane(const double *const *p, const double *e, int *sig
 int pred_insphere_exact(const double *a, const double *b, const double *c, const double *d,
                         const double *e, pred_counters *cnt)
 {
-    int s;
+    /* a cluster far from 1 (translations outside the filter's window): the filter on the
+     * translations scaled by 2^s first (filter_scaled.c); not an exact call */
+    int s = pred_insphere_filter_scaled(a, b, c, d, e);
+    if (s != 0) return s;
     cnt->insphere_exact++;
     const double *p[4] = {a, b, c, d};
     if (insphere_axis_plane(p, e, &s)) {
         cnt->insphere_int++;
     } else if (pred_insphere_int(a, b, c, d, e, &s) || pred_insphere_wide(a, b, c, d, e, &s)) {
         cnt->insphere_int++;
+    } else if (pred_insphere_wide122(a, b, c, d, e, &s)) {
+        cnt->insphere_int++;
+        cnt->insphere_int122++;
     } else if (!pred_insphere_exp(a, b, c, d, e, &s)) {
         cnt->insphere_gmp++;
         s = pred_insphere_gmp(a, b, c, d, e);
