@@ -40,7 +40,7 @@ int pred_orient3d_wide(const double *a, const double *b, const double *c, const 
 int pred_insphere_wide(const double *a, const double *b, const double *c, const double *d,
                        const double *e, int *sign);
 /* insphere on the same integer form when every integer is below 2^122 (a tuple spanning up
- * to 122 binades), in digit vectors of radix 2^62 on the stack (exact_int.c) */
+ * to 122 binades), in digit vectors of radix 2^60 on the stack (exact_int.c) */
 int pred_insphere_wide122(const double *a, const double *b, const double *c, const double *d,
                           const double *e, int *sign);
 int pred_orient2d_int(const double *a, const double *b, const double *c, int u, int w,
