@@ -42,7 +42,10 @@ static int insphere_axis_plane(const double *const *p, const double *e, int *sig
 int pred_insphere_exact(const double *a, const double *b, const double *c, const double *d,
                         const double *e, pred_counters *cnt)
 {
-    int s;
+    /* a cluster far from 1 (translations outside the filter's window): the filter on the
+     * translations scaled by 2^s first (filter_scaled.c); not an exact call */
+    int s = pred_insphere_filter_scaled(a, b, c, d, e);
+    if (s != 0) return s;
     cnt->insphere_exact++;
     const double *p[4] = {a, b, c, d};
     if (insphere_axis_plane(p, e, &s)) {

@@ -8,7 +8,10 @@
 int pred_orient3d_exact(const double *a, const double *b, const double *c, const double *d,
                         pred_counters *cnt)
 {
-    int s;
+    /* a cluster far from 1 (translations outside the filter's window): the filter on the
+     * translations scaled by 2^s first (filter_scaled.c); not an exact call */
+    int s = pred_orient3d_filter_scaled(a, b, c, d);
+    if (s != 0) return s;
     cnt->orient_exact++;
     /* four points on one axis-aligned plane (a coordinate equal in all four): a column of
      * the translated matrix is exactly zero, so is the determinant (plane + apex inputs,
