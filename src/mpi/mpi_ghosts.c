@@ -134,7 +134,7 @@ static gtet_status exchange_vecs(run *R, vec *out, size_t rs, void **rb, size_t 
 
 /* rank q's seeded layer width: R->layer times its tile's mean spacing, from the gathered box
  * and count only (the same double on every rank) */
-static double layer_width(const run *R, int q)
+double mx_layer_width(const run *R, int q)
 {
     const double *bx = R->box + 6 * q;
     double vol = 1, emax = 0;
@@ -153,7 +153,7 @@ static int seed_covers(const run *R, const ball *B, int q)
 {
     if (B->all) return 0;
     double d = box_dist(R->box + 6 * R->c.rank, B->c);
-    return (d * (1 + 1e-9) + B->r * (1 + 1e-9)) * (1 + 1e-9) <= layer_width(R, q) * (1 - 1e-9);
+    return (d * (1 + 1e-9) + B->r * (1 + 1e-9)) * (1 + 1e-9) <= mx_layer_width(R, q) * (1 - 1e-9);
 }
 
 gtet_status mx_step_seed(run *R, double layer)
@@ -189,7 +189,7 @@ gtet_status mx_step_seed(run *R, double layer)
         /* the layer: `layer` times the tile's mean spacing; every rank computes the same
          * width from the gathered box and count (layer_width), so a receiver knows exactly
          * which of this tile's points it got (seed_covers) */
-        double delta = layer_width(R, me);
+        double delta = mx_layer_width(R, me);
         for (int q = 0; q < P; q++) out[q].rs = sizeof(mpt);
         for (size_t i = 0; i < R->m && s == GTET_OK; i++)
             for (int q = 0; q < P; q++) {

@@ -141,6 +141,7 @@ typedef struct query {
 uint64_t mx_mix64(uint64_t x);
 int mx_hs_grow(hset *h, size_t cap);          /* 0, or -1 out of memory */
 int mx_hs_add(hset *h, uint64_t key);         /* 1 inserted, 0 present, -1 out of memory */
+int mx_hs_has(const hset *h, uint64_t key);
 void *mx_vec_push(vec *v);                    /* room for one more record, or NULL */
 
 /* the steps, in order; each returns this rank's status (the caller agrees on it) */
@@ -158,9 +159,11 @@ int mx_ball_meets_box(const ball *B, const double *box);
 /* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box? */
 int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
                            const double *box);
+/* rank q's seeded layer width (mpi_ghosts.c): the same double on every rank */
+double mx_layer_width(const run *R, int q);
 gtet_status mx_grid_build(run *R);            /* the tile's grid of cells, R->gr */
 /* append to out (mpt records) the tile points in conflict with Q not sent to rank `to`
- * before, and mark them sent */
+ * before (for a hull facet only those near the nearest one: D3), and mark them sent */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
 
 void mx_sort4(uint64_t *k);                   /* 4 ids ascending (mpi_ghosts.c) */

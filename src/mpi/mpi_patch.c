@@ -385,7 +385,11 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
     X.n_old = n_old;
     *done = 0;
     mx_local_mesh(R, &X.nt, &X.tv, &X.nb);
-    if (!X.tv || n_old == R->ns) return GTET_OK;
+    if (!X.tv) return GTET_OK;
+    if (n_old == R->ns) {   /* nothing new here (other ranks got points): DT(S) stands */
+        *done = 1;
+        return GTET_OK;
+    }
     fmap B = {NULL, 0}, WF = {NULL, 0};
     uint32_t *fid = NULL, *stack = NULL;
     int ok = -1;

@@ -179,6 +179,42 @@ gtet_status mx_grid_build(run *R)
 }
 
 
+static double box_distance(const double *box, const double *x)
+{
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = fmax(box[k] - x[k], fmax(0.0, x[k] - box[3 + k]));
+        d2 += e * e;
+    }
+    return sqrt(d2);
+}
+
+/* A hull facet's answer (out's records from n0 on, ids still tile indices): only the points
+ * within the layer width of this tile of the nearest one's distance to rank `to`'s box, which
+ * are marked sent and get their ids back.  The halfspace beyond a facet of `to`'s local hull
+ * holds a whole sheet of this tile along a face of the global box, nearly all of it irrelevant
+ * to `to`'s star; a non-empty answer whenever a conflicting point was not sent is all D3 and
+ * D8 need (a later round asks again if the facet survives). */
+static gtet_status near_hull(run *R, int to, vec *out, size_t n0)
+{
+    mpt *o = (mpt *)out->p;
+    const double *box = R->box + 6 * to;
+    double dmin = INFINITY;
+    for (size_t i = n0; i < out->n; i++) dmin = fmin(dmin, box_distance(box, o[i].x));
+    double lim = dmin + mx_layer_width(R, R->c.rank);
+    size_t w = n0;
+    for (size_t i = n0; i < out->n; i++) {
+        if (!(box_distance(box, o[i].x) <= lim)) continue;
+        uint64_t idx = o[i].id;
+        if (mx_hs_add(&R->sent, idx * (uint64_t)R->c.size + (uint64_t)to) < 0)
+            return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+        o[w] = R->tile[idx];
+        w++;
+    }
+    out->n = w;
+    return GTET_OK;
+}
+
 /* Answer: append to out (mpt records) the tile points in conflict with q that were not sent
  * to rank `to` before; mark them sent. */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
@@ -188,6 +224,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
     int P = R->c.size;
     if (m == 0) return GTET_OK;
     int hull = Q->id[3] == NOID;
+    size_t n0 = out->n;
     ball B = {{0, 0, 0}, 0, 1};
     hspace H = {{0, 0, 0}, {0, 0, 0}, 0, 1};
     int lo[3] = {0, 0, 0}, hi[3] = {G->g[0] - 1, G->g[1] - 1, G->g[2] - 1};
@@ -256,6 +293,17 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                                                  Q->p[3], p->x) > 0;
                                 }
                                 if (!conflict) continue;
+                                if (hull) {   /* kept or dropped below (near_hull) */
+                                    if (mx_hs_has(&R->sent, (uint64_t)G->idx[j] * (uint64_t)P +
+                                                                (uint64_t)to))
+                                        continue;
+                                    mpt *o = mx_vec_push(out);
+                                    if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
+                                                           "out of memory");
+                                    *o = *p;
+                                    o->id = G->idx[j];   /* the tile index until near_hull */
+                                    continue;
+                                }
                                 int a = mx_hs_add(&R->sent, (uint64_t)G->idx[j] * (uint64_t)P +
                                                              (uint64_t)to);
                                 if (a < 0) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
@@ -270,5 +318,5 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                     }
                 }
             }
-    return GTET_OK;
+    return hull ? near_hull(R, to, out, n0) : GTET_OK;
 }

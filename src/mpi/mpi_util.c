@@ -170,6 +170,17 @@ int mx_hs_grow(hset *h, size_t cap)
 }
 
 /* 1 inserted, 0 present, -1 out of memory */
+int mx_hs_has(const hset *h, uint64_t key)
+{
+    if (h->cap == 0) return 0;
+    size_t j = (size_t)mx_mix64(key) & (h->cap - 1);
+    while (h->k[j] != NOID) {
+        if (h->k[j] == key) return 1;
+        j = (j + 1) & (h->cap - 1);
+    }
+    return 0;
+}
+
 int mx_hs_add(hset *h, uint64_t key)
 {
     if (2 * (h->n + 1) > h->cap && mx_hs_grow(h, h->cap ? 2 * h->cap : 64) != 0) return -1;
