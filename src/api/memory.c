@@ -15,7 +15,7 @@
  *           BRIO's keys 8 + radix scratch 8 + 4 + round 1
  *   insert  (build.c kbuild_start, insert.c km_init, parallel.c kpar_init/kpar_round): input
  *           map 4 (the result's vertices are freed while the sorted copy exists, NOTES.md
- *           E12), order 4, the sorted copy sv 24, round ids 4, vloc 1, and the working mesh:
+ *           E14), order 4, the sorted copy sv 24, round ids 4, vloc 1, and the working mesh:
  *           tv + tn = 32 bytes per tet slot, MEM_SLOTS_TOUCHED slots per point touched (the
  *           pages RSS counts) of the capacity build.c reserves; with threads, colour 1, keys
  *           8, shifted keys 8, and the pending keys pk 8 + tk 8 + ti 4 of the last BRIO round

@@ -160,7 +160,7 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nv > 65536)
     for (size_t i = 0; i < nv; i++) memcpy(sv + 3 * i, rv + 3 * (size_t)order[i], 3 * sizeof *sv);
     /* sv holds every coordinate (order is a permutation of 0..nv-1): kbuild_finish scatters
-     * them back (24 B per point less at the peak; NOTES.md E12) */
+     * them back (24 B per point less at the peak; NOTES.md E14) */
     free(b->res->vertices);
     b->res->vertices = NULL;
     gtet_status s = km_init(&b->m, sv, nv, hint, threads);
