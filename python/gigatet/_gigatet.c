@@ -746,13 +746,13 @@ static PyObject *mesh_check(MeshObject *m, PyObject *args)
 static PyObject *pred_dict(const gtet_pred_counters *p)
 {
     return Py_BuildValue(
-        "{s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:[K,K,K,K]}", "orient_calls",
+        "{s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:K,s:[K,K,K,K]}", "orient_calls",
         (unsigned long long)p->orient_calls, "orient_exact", (unsigned long long)p->orient_exact,
         "orient_int", (unsigned long long)p->orient_int, "orient_gmp",
         (unsigned long long)p->orient_gmp, "orient_zero", (unsigned long long)p->orient_zero,
         "insphere_calls", (unsigned long long)p->insphere_calls, "insphere_exact",
         (unsigned long long)p->insphere_exact, "insphere_int", (unsigned long long)p->insphere_int,
-        "insphere_gmp", (unsigned long long)p->insphere_gmp, "insphere_zero",
+        "insphere_int122", (unsigned long long)p->insphere_int122, "insphere_gmp", (unsigned long long)p->insphere_gmp, "insphere_zero",
         (unsigned long long)p->insphere_zero, "sos_calls", (unsigned long long)p->sos_calls,
         "sos_depth", (unsigned long long)p->sos_depth[0], (unsigned long long)p->sos_depth[1],
         (unsigned long long)p->sos_depth[2], (unsigned long long)p->sos_depth[3]);

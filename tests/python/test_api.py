@@ -168,6 +168,11 @@ def test_check_and_stats():
     assert set(s["seconds"]) >= {"validate", "sort", "insert", "finalize", "kernel"}
     assert s["tets"] == d.nsimplex and len(s["rounds"]) == s["num_rounds"]
     assert s["predicates"]["orient_calls"] > 0 and len(s["predicates"]["sos_depth"]) == 4
+    # the counters of gtet_pred_counters, as the CLI's --stats prints them (src/cli/json.c)
+    assert set(s["predicates"]) == {
+        "orient_calls", "orient_exact", "orient_int", "orient_gmp", "orient_zero",
+        "insphere_calls", "insphere_exact", "insphere_int", "insphere_int122", "insphere_gmp",
+        "insphere_zero", "sos_calls", "sos_depth"}
 
 
 def test_write_every_format(tmp_path):
