@@ -14,8 +14,8 @@
  *   sort    (triangulate.c order_points, brio.c sort_brio_keys): result 28, order 4, and the
  *           BRIO's keys 8 + radix scratch 8 + 4 + round 1
  *   insert  (build.c kbuild_start, insert.c km_init, parallel.c kpar_init/kpar_round): input
- *           map 4 (the result's vertices are freed while the sorted copy exists, NOTES.md
- *           E14), order 4, the sorted copy sv 24, round ids 4, vloc 1, and the working mesh:
+ *           map 4 (from KBUILD_HOLD_ONCE_MIN points on the result's vertices are freed while
+ *           the sorted copy exists, NOTES.md E14; below it the result's 28), order 4, the sorted copy sv 24, round ids 4, vloc 1, and the working mesh:
  *           tv + tn = 32 bytes per tet slot, MEM_SLOTS_TOUCHED slots per point touched (the
  *           pages RSS counts) of the capacity build.c reserves; with threads, colour 1, keys
  *           8, shifted keys 8, and the pending keys pk 8 + tk 8 + ti 4 of the last BRIO round
@@ -51,6 +51,7 @@
 #include <sys/resource.h>
 
 #include "../base/base.h"
+#include "../kernel/build.h"
 
 #define MIB (UINT64_C(1) << 20)
 #define GIB (UINT64_C(1) << 30)
@@ -126,8 +127,9 @@ void mem_estimate_run(size_t n_in, int threads, const gtet_options *opts, mem_es
     const uint64_t dedup = mul10(n, 10 * (MEM_PT_RESULT + MEM_PT_DEDUP));
     const uint64_t sort = add(base, mul10(n, 10 * MEM_PT_SORT));
     const uint64_t par = T > 1 ? mul10(n, MEM_PT_PARALLEL_X10) : 0;
-    const uint64_t kernel =
-        add(mul10(n, 10 * (MEM_PT_INPUT_MAP + MEM_PT_ORDER + MEM_PT_KERNEL)), par);
+    /* the result's vertices are held through the insertion below KBUILD_HOLD_ONCE_MIN */
+    const uint64_t held = n < KBUILD_HOLD_ONCE_MIN ? MEM_PT_RESULT : MEM_PT_INPUT_MAP;
+    const uint64_t kernel = add(mul10(n, 10 * (held + MEM_PT_ORDER + MEM_PT_KERNEL)), par);
     uint64_t insert = add(kernel, mul10(n, MEM_SLOTS_TOUCHED_X10 * MEM_SLOT_BYTES));
     insert = add(insert, degen_bytes(n, T, opts));
     const uint64_t tets = mul10(n, MEM_TETS_PER_POINT_X10);

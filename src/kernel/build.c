@@ -1,13 +1,14 @@
 /* build.c -- kbuild_run: the kernel stage, from an insertion order to the result's tets.
  *
- * start: the vertices moved into insertion order (internal id i is mesh vertex order[i], so
- *   consecutive insertions touch neighbouring memory; the result's own copy is freed until
- *   finish, so the coordinates are held once at the run's peak), the working mesh (kmesh.h)
+ * start: the vertices copied into insertion order (internal id i is mesh vertex order[i], so
+ *   consecutive insertions touch neighbouring memory; from KBUILD_HOLD_ONCE_MIN points on the
+ *   result's own copy is freed until finish, so the coordinates are held once at the run's
+ *   peak), the working mesh (kmesh.h)
  *   with room for about 7 tets per vertex, one insertion context per thread, the parallel state
  *   (parallel.h), the first tet and its four ghosts;
  * rounds: each BRIO round through kpar_round (parallel passes, then serial);
  * finish: the parallel state and per-vertex marks freed, compaction into the result arrays
- *   (finalize.c), the result's vertices scattered back from the sorted copy, mesh vertex ids
+ *   (finalize.c), the result's vertices scattered back from the sorted copy (big runs), mesh vertex ids
  *   restored, the threads' logs of the perturbation's decisions merged, the counters summed.
  * Whatever step fails, kbuild_release frees everything the run allocated (one cleanup path).
  */
@@ -159,10 +160,12 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
     double *sv = b->sv;
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nv > 65536)
     for (size_t i = 0; i < nv; i++) memcpy(sv + 3 * i, rv + 3 * (size_t)order[i], 3 * sizeof *sv);
-    /* sv holds every coordinate (order is a permutation of 0..nv-1): kbuild_finish scatters
-     * them back (24 B per point less at the peak; NOTES.md E14) */
-    free(b->res->vertices);
-    b->res->vertices = NULL;
+    /* sv holds every coordinate (order is a permutation of 0..nv-1): for a big run
+     * kbuild_finish scatters them back (24 B per point less at the peak; NOTES.md E14) */
+    if (nv >= KBUILD_HOLD_ONCE_MIN) {
+        free(b->res->vertices);
+        b->res->vertices = NULL;
+    }
     gtet_status s = km_init(&b->m, sv, nv, hint, threads);
     if (s != GTET_OK) return s;
     if (b->threads > 255) b->threads = 255;
@@ -241,7 +244,7 @@ static gtet_status kbuild_finish(kbuild *b)
     b->m.vloc = NULL;
     gtet_status s = km_finalize(&b->m, &res->tets, &res->neighbors, &res->n_tets,
                                 &res->n_hull_facets, threads);
-    if (s == GTET_OK) s = restore_vertices(b);
+    if (s == GTET_OK && !res->vertices) s = restore_vertices(b);
     if (s != GTET_OK) return s;
     uint32_t *tv = res->tets;
     const size_t n4 = 4 * res->n_tets;

@@ -36,6 +36,12 @@ typedef struct kbuild_in {
     void *cancel_user;
 } kbuild_in;
 
+/* From this many distinct points on, the kernel frees the result's vertices while its sorted
+ * copy exists and scatters them back after compaction (NOTES.md E14): 24 bytes a point less
+ * at a parallel run's peak, for a random scatter that costs ~10% of a 1M-point run at one
+ * thread; below it the coordinates are held twice.  src/api/memory.c estimates with it. */
+#define KBUILD_HOLD_ONCE_MIN ((size_t)1 << 24)
+
 /* Insert the points of res (its vertices and n_points are set) in the order given, then
  * compact: fills res's tets (mesh vertex ids, positively oriented), neighbors, n_tets,
  * n_hull_facets, rounds, the degeneracy records and, in res->stats, pred (added to what it
