@@ -447,8 +447,10 @@ static void test_wide_integer_form_at_its_limits_match_oracle(void)
                     v = l[j] * ((int64_t)1 << 43) + (tu_below(&r, 8) == 0 ? pg_int(&r, 1) : 0);
                 } else {
                     const uint64_t w = tu_below(&r, 10);
+                    /* a multiplication, not a shift: the value may be negative */
                     v = w < 7 ? picks[w]
-                              : pg_int(&r, ((int64_t)1 << 53) - 1) << tu_below(&r, 8);
+                              : pg_int(&r, ((int64_t)1 << 53) - 1) *
+                                    ((int64_t)1 << tu_below(&r, 8));
                 }
                 p[i][j] = ldexp((double)v, k);
             }
