@@ -72,6 +72,14 @@ static void say_round(void *user, int round, int num_rounds, const gtet_round_st
         rs->passes, rs->threads, rs->alpha_first, seconds);
 }
 
+/* opts.input_done: the caller's xyz is no longer read (r->xyz is cleared so that no later
+ * stage can read it by mistake). */
+static void input_done(run *r)
+{
+    r->xyz = NULL;
+    if (r->opts.input_done) r->opts.input_done(r->opts.input_done_user);
+}
+
 /* The arguments, finite coordinates and duplicates: r->res holds the vertices. */
 static gtet_status prepare(run *r, gtet_mesh **out)
 {
@@ -100,6 +108,7 @@ static gtet_status prepare(run *r, gtet_mesh **out)
     s = kval_dedup(r->xyz, r->n, r->threads, &res->vertices, &res->input_map, &res->n_vertices,
                    r->err);
     r->t_validated = omp_get_wtime();
+    if (s == GTET_OK && !r->opts.check) input_done(r);
     if (s == GTET_OK && verbose(r, 1))
         say(r, "validate: %.3f s, %zu points, %zu duplicates", r->t_validated - r->t_start,
             r->n, r->n - res->n_vertices);
@@ -190,6 +199,7 @@ static gtet_status finish(run *r)
     gtet_check_report rep;
     const gtet_status s = gtet_check(r->res, r->xyz, r->n, 0, &rep);
     if (s != GTET_OK) base_error(r->err, s, SIZE_MAX, -1, "%s", rep.message);
+    else input_done(r);
     if (verbose(r, 1)) say(r, "check: %s", s == GTET_OK ? "ok" : rep.message);
     return s;
 }

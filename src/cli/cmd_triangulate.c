@@ -273,8 +273,19 @@ static int tri_writable(const tri_args *a)
     return is == IO_OK ? CLI_OK : cli_io_failed(is, &ioe);
 }
 
-/* gtet_triangulate with the options of a (and the progress bar on a terminal). */
-static int tri_kernel(const tri_args *a, const double *xyz, size_t n, gtet_mesh **mesh)
+/* gtet_options.input_done: the points read are freed once the library has its own copy (24
+ * bytes a point at the insertion's peak); *user is the CLI's pointer to them. */
+static void free_input(void *user)
+{
+    double **xyz = user;
+    free(*xyz);
+    *xyz = NULL;
+}
+
+/* gtet_triangulate with the options of a (and the progress bar on a terminal).  Without
+ * --check, which compares the mesh with the points read, *xyz is freed (set to NULL) during
+ * the run. */
+static int tri_kernel(const tri_args *a, double **xyz, size_t n, gtet_mesh **mesh)
 {
     gtet_options opts;
     gtet_error gerr;
@@ -286,6 +297,10 @@ static int tri_kernel(const tri_args *a, const double *xyz, size_t n, gtet_mesh 
     opts.degeneracies = a->degen != NULL;
     opts.degeneracy_limit = (size_t)a->degen_limit;
     opts.memory_limit = a->memory_limit;
+    if (!a->check) {
+        opts.input_done = free_input;
+        opts.input_done_user = xyz;
+    }
     int bar = !a->quiet && isatty(STDERR_FILENO);
     if (bar) {
         opts.progress = progress_bar;
@@ -296,7 +311,7 @@ static int tri_kernel(const tri_args *a, const double *xyz, size_t n, gtet_mesh 
     gtet_options with_check = opts;
     with_check.check = (int)a->check;
     gtet_status gs = gtet_memory_guard(n, &with_check);
-    if (gs == GTET_OK) gs = gtet_triangulate(xyz, n, &opts, mesh);
+    if (gs == GTET_OK) gs = gtet_triangulate(*xyz, n, &opts, mesh);
     if (bar && ps.last >= 0) fputs("\r\033[K", stderr);
     if (gs == GTET_OK) return CLI_OK;
     const char *msg = gerr.message[0] ? gerr.message : gtet_status_str(gs);
@@ -308,7 +323,8 @@ static int tri_kernel(const tri_args *a, const double *xyz, size_t n, gtet_mesh 
 }
 
 /* --check, then the outputs: the degeneracy record complete in its temporary, the mesh
- * written atomically, and only then the record renamed into place. */
+ * written atomically, and only then the record renamed into place.  xyz: the points read
+ * (NULL without --check: freed during the run). */
 static int tri_outputs(const tri_args *a, const double *xyz, size_t n, const gtet_mesh *mesh,
                        tri_times *t)
 {
@@ -358,7 +374,7 @@ static int cli_triangulate(int argc, char **argv)
     double t1 = cli_now();
     t.read = t1 - t.start;
     gtet_mesh *mesh = NULL;
-    rc = tri_kernel(&a, xyz, n, &mesh);
+    rc = tri_kernel(&a, &xyz, n, &mesh);  /* frees xyz unless --check needs it */
     t.kernel = cli_now() - t1;
     if (rc == CLI_OK) rc = tri_outputs(&a, xyz, n, mesh, &t);
     if (rc == CLI_OK && !a.quiet) {
