@@ -1,5 +1,5 @@
 /* test_parallel_slices.c -- obligation O1 of proofs/parallel.md for the cuts of a parallel pass
- * (src/kernel/parallel.c kpar_slices / kpar_colour_of): the slices are consecutive, cover every
+ * (src/kernel/slices.c kpar_slices / kpar_colour_of): the slices are consecutive, cover every
  * pending point once, never split equal keys, and the colour a key gets from the ranges is the
  * index of the slice that holds it -- for a round's first pass and for its first retry, whose
  * cuts are rotated half a slice along the looping curve.

@@ -4,6 +4,7 @@
 #define GTET_PARALLEL_H
 
 #include "kmesh.h"
+#include "slices.h"
 
 typedef struct kpar {
     kmesh *m;
@@ -32,20 +33,6 @@ typedef struct kpar {
     int (*cancel)(void *user);
     void *cancel_user;
 } kpar;
-
-#define KPAR_KEY_MASK ((UINT64_C(1) << 63) - 1)  /* 63-bit Moore keys, 21 bits per axis */
-
-/* The slices of a pass and the colour ranges of the vertices (parallel.c); exposed for the
- * tests of obligation O1: every point of slice k has colour k. */
-void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, uint64_t *tk,
-                 uint32_t *ti, size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0);
-static inline int kpar_colour_of(uint64_t key, const uint64_t rel[], uint64_t bound0, int nth)
-{
-    const uint64_t k = (key - bound0) & KPAR_KEY_MASK;
-    int c = nth - 1;
-    while (c > 0 && k < rel[c]) c--;
-    return c;
-}
 
 /* keys: NULL, or the BRIO's keys of the vertices in internal order with key_bits bits per
  * axis (sort_brio_keys), which P then owns (kpar_free frees them, also after a failure). */

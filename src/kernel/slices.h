@@ -1,0 +1,31 @@
+/* slices.h -- the cuts of a parallel pass into one slice per thread and the colour ranges of
+ * the vertices (prefix kpar_); see slices.c.  Used by parallel.c and exposed for the tests of
+ * obligation O1 (proofs/parallel.md): every point of slice k has colour k. */
+#ifndef GTET_SLICES_H
+#define GTET_SLICES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define KPAR_KEY_BITS 21                         /* per axis */
+#define KPAR_KEY_MASK ((UINT64_C(1) << 63) - 1)  /* 63-bit Moore keys, 21 bits per axis */
+
+/* Cut the sorted pending keys pk[0..np) (pts alongside; both may be rotated cyclically) into
+ * nth slices [begin[k], end[k]) and colour ranges rel[], bound0 (kpar_colour_of); rotate: 0
+ * cuts from the first key, 1 half a slice further along the loop (a round's first retry), 2
+ * from the origin whose cuts are coarsest (a round's first pass).  tk, ti: scratch of np
+ * entries each. */
+void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, uint64_t *tk,
+                 uint32_t *ti, size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0);
+
+/* The colour of a vertex with 63-bit key `key`: the largest k with rel[k] <= key measured from
+ * bound0 along the loop. */
+static inline int kpar_colour_of(uint64_t key, const uint64_t rel[], uint64_t bound0, int nth)
+{
+    const uint64_t k = (key - bound0) & KPAR_KEY_MASK;
+    int c = nth - 1;
+    while (c > 0 && k < rel[c]) c--;
+    return c;
+}
+
+#endif
