@@ -92,6 +92,49 @@ static void guard_names_the_limit(void)
     TEST_CHECK(guard(100000, &r, 0, &err) == GTET_OK, "100k points in 256 MiB");
 }
 
+/* The second check (mem_grow_room): a mesh that outgrows the estimate grows as far as the
+ * limits allow, less what the rest of the run needs (32 B a point + 32 MiB), and is refused,
+ * naming the limit, only when even the slots needed now do not fit.  Resident room counts from
+ * the slots in use, address space from the capacity mapped. */
+static void growth_is_cut_or_refused(void)
+{
+    const mem_room none = {UINT64_MAX, UINT64_MAX, UINT64_MAX, UINT64_MAX};
+    const size_t n = 1000000, used = 200 * MIB, cap = 224 * MIB, min = 230 * MIB;
+    const uint64_t spare = 32 * (uint64_t)n + 32 * MIB;
+    gtet_error err;
+    memset(&err, 0, sizeof err);
+    size_t want = 336 * MIB;
+    TEST_CHECK(mem_grow_room(&none, n, used, cap, min, &want, &err) == GTET_OK && want == 336 * MIB,
+               "no limit: the whole step (%zu)", want);
+    mem_room r = none;
+    r.mem_available = 100 * MIB + spare;  /* resident: up to used + 100 MiB */
+    want = 336 * MIB;
+    TEST_CHECK(mem_grow_room(&r, n, used, cap, min, &want, &err) == GTET_OK && want == 300 * MIB,
+               "MemAvailable cuts the step to used + room - spare: %zu MiB", want / MIB);
+    r.mem_available = 20 * MIB + spare;  /* used + 20 MiB < min */
+    want = 336 * MIB;
+    TEST_CHECK(mem_grow_room(&r, n, used, cap, min, &want, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   err.status == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "the mesh outgrew the estimate (6.6 tet slots a point") &&
+                   strstr(err.message, "cannot grow by 112.0 MiB") &&
+                   strstr(err.message, "(MemAvailable)"),
+               "refused: %s", err.message);
+    r.cgroup = 20 * MIB + spare;
+    r.mem_available = UINT64_MAX;
+    want = 336 * MIB;
+    TEST_CHECK(mem_grow_room(&r, n, used, cap, min, &want, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "(cgroup memory limit)"), "cgroup: %s", err.message);
+    r = none;
+    r.rlimit_as = 50 * MIB + spare;  /* address: up to cap + 50 MiB = 274 MiB */
+    want = 336 * MIB;
+    TEST_CHECK(mem_grow_room(&r, n, used, cap, min, &want, &err) == GTET_OK && want == 274 * MIB,
+               "ulimit -v cuts the step to cap + room - spare: %zu MiB", want / MIB);
+    r.rlimit_as = 5 * MIB + spare;
+    want = 336 * MIB;
+    TEST_CHECK(mem_grow_room(&r, n, used, cap, min, &want, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "(RLIMIT_AS, ulimit -v)"), "ulimit -v: %s", err.message);
+}
+
 static void put(const char *root, const char *rel, const char *text)
 {
     char p[1024];
@@ -179,6 +222,7 @@ int main(void)
 {
     TU_RUN(estimate_shape);
     TU_RUN(guard_names_the_limit);
+    TU_RUN(growth_is_cut_or_refused);
     TU_RUN(probe_fake_tree);
     TU_RUN(triangulate_refuses);
     return tu_finish();

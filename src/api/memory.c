@@ -366,6 +366,54 @@ gtet_status mem_guard(size_t n, int threads, const gtet_options *opts, gtet_erro
     return mem_guard_room(n, threads, opts, &room, err);
 }
 
+/* what the second check keeps free for the rest of the run: the finish phase allocates the
+ * result's vertices again (from KBUILD_HOLD_ONCE_MIN points on: 24 bytes a point) and a few
+ * small arrays; the margin is for the rest of the machine */
+#define MEM_GROW_SPARE_PER_POINT 32
+#define MEM_GROW_SPARE (32 * MIB)
+
+gtet_status mem_grow_room(const mem_room *room, size_t n, size_t used_bytes, size_t cap_bytes,
+                          size_t min_bytes, size_t *want_bytes, gtet_error *err)
+{
+    /* resident: the slots not touched yet will be; address: the growth is mapped at once */
+    const int cg = room->cgroup < room->mem_available;
+    const uint64_t res = cg ? room->cgroup : room->mem_available;
+    const int data = room->rlimit_data < room->rlimit_as;
+    const uint64_t addr = data ? room->rlimit_data : room->rlimit_as;
+    const uint64_t spare = add(mul10(n, 10 * MEM_GROW_SPARE_PER_POINT), MEM_GROW_SPARE);
+    const uint64_t res_left = res > spare ? res - spare : 0;
+    const uint64_t addr_left = addr > spare ? addr - spare : 0;
+    const uint64_t by_res = add(used_bytes, res_left), by_addr = add(cap_bytes, addr_left);
+    const uint64_t grant = by_res < by_addr ? by_res : by_addr;
+    if (*want_bytes <= grant) return GTET_OK;
+    if (min_bytes <= grant) {
+        *want_bytes = (size_t)grant;
+        return GTET_OK;
+    }
+    const int addr_bound = by_addr < by_res;
+    char step[32], have[32], keep[32];
+    fmt_bytes(step, sizeof step, *want_bytes - cap_bytes);
+    fmt_bytes(have, sizeof have, addr_bound ? addr : res);
+    fmt_bytes(keep, sizeof keep, spare);
+    base_error(err, GTET_ERR_OUT_OF_MEMORY, SIZE_MAX, -1,
+               "out of memory: the mesh outgrew the estimate (%.1f tet slots a point so far, "
+               "7 estimated) and cannot grow by %s and keep %s for the rest of the run: "
+               "%s available (%s)",
+               n ? (double)used_bytes / MEM_SLOT_BYTES / (double)n : 0.0, step, keep, have,
+               addr_bound ? (data ? "RLIMIT_DATA, ulimit -d" : "RLIMIT_AS, ulimit -v")
+                          : (cg ? "cgroup memory limit" : "MemAvailable"));
+    return GTET_ERR_OUT_OF_MEMORY;
+}
+
+gtet_status mem_grow_guard(void *user, size_t used_bytes, size_t cap_bytes, size_t min_bytes,
+                           size_t *want_bytes)
+{
+    const mem_grow *g = user;
+    mem_room room;
+    mem_probe(g->proc, g->sys, &room);
+    return mem_grow_room(&room, g->n, used_bytes, cap_bytes, min_bytes, want_bytes, g->err);
+}
+
 size_t gtet_estimate_memory(size_t n, const gtet_options *opts)
 {
     gtet_options o;

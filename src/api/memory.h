@@ -46,4 +46,23 @@ gtet_status mem_guard(size_t n, int threads, const gtet_options *opts, gtet_erro
 gtet_status mem_guard_room(size_t n, int threads, const gtet_options *opts,
                            const mem_room *room, gtet_error *err);
 
+/* The second check, while the kernel runs (kmesh.h grow_guard): a mesh with more tets per
+ * point than the estimate (points on one sphere: 15-22 against 7) grows its arrays past what
+ * the first check counted.  Before each such growth the limits are read again and the growth
+ * is cut to what they leave (less what the rest of the run needs), or refused when even the slots needed now
+ * do not fit: GTET_ERR_OUT_OF_MEMORY, "the mesh outgrew the estimate", instead of the OOM
+ * killer.  Only in the guard's default mode (memory_limit 0): an explicit limit or none is the
+ * caller's word.  user: a mem_grow. */
+typedef struct mem_grow {
+    size_t n;           /* the run's distinct points (for the message) */
+    gtet_error *err;
+    const char *proc, *sys;  /* "/proc", "/sys" (a test passes a fake tree) */
+} mem_grow;
+gtet_status mem_grow_guard(void *user, size_t used_bytes, size_t cap_bytes, size_t min_bytes,
+                           size_t *want_bytes);
+
+/* The decision of mem_grow_guard against the limits of `room` (the tests' entry point). */
+gtet_status mem_grow_room(const mem_room *room, size_t n, size_t used_bytes, size_t cap_bytes,
+                          size_t min_bytes, size_t *want_bytes, gtet_error *err);
+
 #endif

@@ -43,6 +43,7 @@ typedef struct run {
     size_t round_end[64];
     int num_rounds;
     double t_start, t_validated, t_sorted, t_inserted, t_done;
+    mem_grow grow;         /* the memory guard's second check (memory.h) */
 } run;
 
 static void say(const run *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -168,6 +169,11 @@ static gtet_status build(run *r)
     in.progress_user = r->opts.progress_user;
     in.cancel = r->opts.cancel;
     in.cancel_user = r->opts.cancel_user;
+    if (r->opts.memory_limit == 0) {  /* the guard's default mode: checked again on growth */
+        r->grow = (mem_grow){res->n_vertices, r->err, "/proc", "/sys"};
+        in.grow_guard = mem_grow_guard;
+        in.grow_user = &r->grow;
+    }
     if (verbose(r, 2)) {
         in.round_done = say_round;
         in.round_user = r;

@@ -168,6 +168,8 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
     }
     gtet_status s = km_init(&b->m, sv, nv, hint, threads);
     if (s != GTET_OK) return s;
+    b->m.grow_guard = in->grow_guard;
+    b->m.grow_user = in->grow_user;
     if (b->threads > 255) b->threads = 255;
     s = alloc_contexts(b);
     if (s != GTET_OK) return s;

@@ -34,6 +34,10 @@ typedef struct kbuild_in {
      * serial pass (kpar); nonzero stops with GTET_ERR_CANCELLED */
     int (*cancel)(void *user);
     void *cancel_user;
+    /* NULL, or the working mesh's growth guard (kmesh.h grow_guard) */
+    gtet_status (*grow_guard)(void *user, size_t used_bytes, size_t cap_bytes, size_t min_bytes,
+                              size_t *want_bytes);
+    void *grow_user;
 } kbuild_in;
 
 /* From this many distinct points on, the kernel frees the result's vertices while its sorted

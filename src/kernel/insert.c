@@ -36,6 +36,14 @@ gtet_status km_reserve(kmesh *m, size_t slots)
     size_t cap = m->cap ? m->cap : 64;
     while (cap < slots) cap += cap / 2 + 64;
     if (cap > KM_MAX_SLOTS) cap = KM_MAX_SLOTS;
+    if (m->cap && m->grow_guard) {  /* beyond the first capacity, which the first guard counted */
+        const size_t slot = 8 * sizeof *m->tv;
+        size_t want = cap * slot;
+        gtet_status s = m->grow_guard(m->grow_user, m->nt * slot, m->cap * slot, slots * slot,
+                                      &want);
+        if (s != GTET_OK) return s;
+        if (want / slot < cap) cap = want / slot < slots ? slots : want / slot;
+    }
     uint32_t *tv = realloc(m->tv, 4 * cap * sizeof *tv);
     if (!tv) return GTET_ERR_OUT_OF_MEMORY;
     m->tv = tv;

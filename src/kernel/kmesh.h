@@ -41,6 +41,15 @@ typedef struct kmesh {
     uint8_t *vloc;      /* cavity-local id of each vertex (scratch, nv bytes) */
     pred_static ps;     /* static bounds / lattice exactness for these vertices (pred.h) */
     double box[6];      /* their bounding box (min x, y, z, max x, y, z) */
+    /* NULL, or asked before the arrays grow past their first capacity (the memory guard's
+     * second check: a mesh with more tets per point than the estimate, src/api/memory.c
+     * mem_grow_guard): the slots in use span used_bytes of the cap_bytes allocated, the
+     * arrays need at least min_bytes and would grow to *want_bytes; the guard may lower
+     * *want_bytes (never below min_bytes) to what the machine can still give, or return
+     * GTET_ERR_OUT_OF_MEMORY (it says why). */
+    gtet_status (*grow_guard)(void *user, size_t used_bytes, size_t cap_bytes, size_t min_bytes,
+                              size_t *want_bytes);
+    void *grow_user;
 } kmesh;
 
 /* One boundary facet of a cavity: the new tet it becomes (the deleted tet's vertices with the

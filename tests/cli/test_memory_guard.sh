@@ -9,6 +9,8 @@
 #     (under ulimit -v the run then reaches the allocation failure: exit 4 without the guard's
 #     message, no crash), bad values are usage errors (exit 1);
 #   - ulimit -v the input cannot fit: the guard names RLIMIT_AS, no output file;
+#   - a mesh that outgrows the estimate (co-spherical points) under ulimit -v: the second check
+#     refuses its growth with its own message;
 #   - a cgroup v2 memory.max the input cannot fit, when this machine lets root create one
 #     (else skipped with a message; the cgroup files are parsed by tests/test_api_memory.c).
 # The ulimit and RSS parts are skipped under sanitizers (ASan/TSan map terabytes, and their
@@ -69,6 +71,18 @@ done
 expect 0 "" -- bash -c "ulimit -v 4000000 && exec \"$G\" triangulate mid.bin -t 1 -o out.ele -q"
 [ -e out.ele ] || fail "no output under a generous limit"
 rm -f out.ele out.node
+
+# the second check: points on one sphere make ~19 tets a point against the 7 estimated; under a
+# limit the estimate fits but the grown mesh does not, the growth is refused with its own
+# message (not the allocator's failure), nothing written; with the guard off the allocation
+# fails instead (still exit 4); a limit with room enough lets the mesh grow and finish
+"$G" generate cospherical 300000 -o cosph.bin -q || fail "generate cospherical"
+expect 4 "the mesh outgrew the estimate" -- bash -c "ulimit -v 200000 && exec \"$G\" triangulate cosph.bin -t 1 -o out.ele"
+grep -qF "(RLIMIT_AS, ulimit -v)" "$T/err" || fail "names RLIMIT_AS: $(cat "$T/err")"
+[ -z "$(ls -A | grep -v '\.bin$')" ] || fail "a refused run left: $(listing .)"
+expect 4 "out of memory" -- bash -c "ulimit -v 200000 && exec \"$G\" triangulate cosph.bin -t 1 -o out.ele --memory-limit off"
+! grep -qF "outgrew" "$T/err" || fail "--memory-limit off: the second check still ran"
+expect 0 "" -- bash -c "ulimit -v 400000 && exec \"$G\" triangulate cosph.bin -t 1 -q"
 
 # cgroup v2: a child cgroup with memory.max = 64 MiB, this subshell moved into it
 cg_skip=""
