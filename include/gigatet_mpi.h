@@ -46,6 +46,9 @@ typedef struct gtet_mpi_stats {
     int rebuilds;               /* later rounds in which this rank triangulated its whole
                                    local set again instead (0 unless that cavity could not be
                                    patched: proofs/distributed.md D9) */
+    int scans;                  /* later rounds in which this rank found the new points'
+                                   cavity by testing every local tet instead of locating
+                                   each point (0 unless a walk failed: D10) */
     uint64_t tile_points;       /* distinct points of this rank's tile */
     uint64_t ghost_points;      /* other tiles' points this rank triangulated with its own */
     uint64_t ghost_seeded;      /* ... of which it received in the seeding step */
