@@ -180,11 +180,11 @@ gtet_status mx_step_seed(run *R, double layer)
             R->scap = want;
         }
     }
+    if (s == GTET_OK) s = mx_grid_build(R);   /* reorders the tile: before S takes it */
     if (s == GTET_OK)
         for (size_t i = 0; i < R->m && s == GTET_OK; i++)
             if (s_add(R, &R->tile[i], me) < 0)
                 s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    if (s == GTET_OK) s = mx_grid_build(R);
     if (s == GTET_OK && R->m) {
         /* the layer: `layer` times the tile's mean spacing; every rank computes the same
          * width from the gathered box and count (layer_width), so a receiver knows exactly

@@ -84,7 +84,8 @@ typedef struct grid {
     int g[3];
     int b[3];                   /* blocks of GB^3 cells, for halfspace queries */
     uint32_t *start;            /* cells + 1 */
-    uint32_t *idx;              /* tile point indices by cell */
+    uint32_t *idx;              /* tile point indices by cell (the identity: R->tile is
+                                   stored in cell order) */
 } grid;
 #define GB 4
 
@@ -161,7 +162,8 @@ int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
                            const double *box);
 /* rank q's seeded layer width (mpi_ghosts.c): the same double on every rank */
 double mx_layer_width(const run *R, int q);
-gtet_status mx_grid_build(run *R);            /* the tile's grid of cells, R->gr */
+/* the tile's grid of cells, R->gr; puts R->tile in cell order (before S is built from it) */
+gtet_status mx_grid_build(run *R);
 /* append to out (mpt records) the tile points in conflict with Q not sent to rank `to`
  * before (for a hull facet only those near the nearest one: D3), and mark them sent */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
