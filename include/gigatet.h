@@ -187,7 +187,9 @@ typedef struct gtet_options {
      * caller may free or reuse its array from then on; the library neither reads it again nor
      * frees it.  A run that fails before that point does not call it.  For a caller whose input
      * array is its own (the CLI frees the points it read, 24 bytes a point: 1.8 GiB at 80M, at
-     * the insertion's peak); gtet_estimate_memory never counts that array either way. */
+     * the insertion's peak).  With it set, the memory guard counts those 24 bytes a point as
+     * available for the run's peak, which comes after it; gtet_estimate_memory never counts
+     * the caller's array. */
     void (*input_done)(void *user);
     void *input_done_user;
 } gtet_options;

@@ -92,6 +92,34 @@ static void guard_names_the_limit(void)
     TEST_CHECK(guard(100000, &r, 0, &err) == GTET_OK, "100k points in 256 MiB");
 }
 
+static void input_freed(void *user) { (void)user; }
+
+/* A caller that frees its points at input_done gets their 24 bytes a point back before the
+ * peak: the guard counts them as available (the 80M-point CLI run needs it). */
+static void guard_credits_the_freed_input(void)
+{
+    const size_t n = 10000000;
+    gtet_options o;
+    gtet_options_init(&o);
+    mem_estimate e;
+    mem_estimate_run(n, 1, &o, &e);
+    mem_room r = {e.resident - 100 * MIB, UINT64_MAX, UINT64_MAX, UINT64_MAX};
+    gtet_error err;
+    memset(&err, 0, sizeof err);
+    TEST_CHECK(mem_guard_room(n, 1, &o, &r, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "(MemAvailable)"), "kept input: %s", err.message);
+    o.input_done = input_freed;
+    TEST_CHECK(mem_guard_room(n, 1, &o, &r, &err) == GTET_OK,
+               "freed input (240 MB) covers the missing 100 MiB: %s", err.message);
+    r.mem_available = e.resident - 400 * MIB;
+    TEST_CHECK(mem_guard_room(n, 1, &o, &r, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "(MemAvailable, with the input freed)"),
+               "400 MiB short: %s", err.message);
+    r.mem_available = 200 * MIB;  /* not even the validate stage's arrays fit beside the input */
+    TEST_CHECK(mem_guard_room(n, 1, &o, &r, &err) == GTET_ERR_OUT_OF_MEMORY &&
+                   strstr(err.message, "(MemAvailable)"), "validate: %s", err.message);
+}
+
 /* The second check (mem_grow_room): a mesh that outgrows the estimate grows as far as the
  * limits allow, less what the rest of the run needs (32 B a point + 32 MiB), and is refused,
  * naming the limit, only when even the slots needed now do not fit.  Resident room counts from
@@ -222,6 +250,7 @@ int main(void)
 {
     TU_RUN(estimate_shape);
     TU_RUN(guard_names_the_limit);
+    TU_RUN(guard_credits_the_freed_input);
     TU_RUN(growth_is_cut_or_refused);
     TU_RUN(probe_fake_tree);
     TU_RUN(triangulate_refuses);

@@ -69,6 +69,7 @@
 #define MEM_TETS_PER_POINT_X10 70
 /* per point, in every phase from dedup on: result vertices (3 doubles) + input map */
 #define MEM_PT_RESULT 28
+#define MEM_PT_CALLER_INPUT 24  /* the caller's points (3 doubles), freed at input_done */
 #define MEM_PT_INPUT_MAP 4    /* the result's input map, alone during the insertion */
 #define MEM_PT_DEDUP 1        /* validate.c: one duplicate mark per point */
 #define MEM_PT_ORDER 4        /* triangulate.c: the insertion order */
@@ -346,14 +347,22 @@ gtet_status mem_guard_room(size_t n, int threads, const gtet_options *opts,
         if (e.resident <= opts->memory_limit) return GTET_OK;
         return refuse(err, e.resident, opts->memory_limit, "", "the memory_limit option");
     }
+    /* a caller that frees its points at opts->input_done (after the validate stage, whose
+     * arrays are far below the peak) gives their pages and address space back before the
+     * insertion: the limits, which count them now, are that much larger for the peak */
+    const uint64_t credit = opts->input_done ? mul10(n, 10 * MEM_PT_CALLER_INPUT) : 0;
+    const uint64_t validate = mul10(n, 10 * (MEM_PT_RESULT + MEM_PT_DEDUP));
     const int cg = room->cgroup < room->mem_available;
     const uint64_t res = cg ? room->cgroup : room->mem_available;
-    if (e.resident > res)
-        return refuse(err, e.resident, res, "", cg ? "cgroup memory limit" : "MemAvailable");
+    const char *res_name = cg ? (credit ? "cgroup memory limit, with the input freed"
+                                        : "cgroup memory limit")
+                              : (credit ? "MemAvailable, with the input freed" : "MemAvailable");
+    if (validate > res) return refuse(err, validate, res, "", cg ? "cgroup memory limit" : "MemAvailable");
+    if (e.resident > add(res, credit)) return refuse(err, e.resident, add(res, credit), "", res_name);
     const int data = room->rlimit_data < room->rlimit_as;
     const uint64_t addr = data ? room->rlimit_data : room->rlimit_as;
-    if (e.address > addr)
-        return refuse(err, e.address, addr, " of address space",
+    if (e.address > add(addr, credit))
+        return refuse(err, e.address, add(addr, credit), " of address space",
                       data ? "RLIMIT_DATA, ulimit -d" : "RLIMIT_AS, ulimit -v");
     return GTET_OK;
 }
