@@ -53,6 +53,7 @@ static gtet_status triangulate_local(run *R)
     free(R->ptv);
     free(R->ptn);
     R->ptv = R->ptn = NULL;
+    R->qfrom = 0;   /* every tet is this round's */
     if (R->m == 0) return GTET_OK;
     for (int attempt = 0; attempt < 2; attempt++) {
         double *xyz = mx_malloc(3 * R->ns * sizeof *xyz);
@@ -272,7 +273,10 @@ static gtet_status make_queries(run *R, vec *out)
     }
     vec keys = {NULL, 0, 0, 4 * sizeof(uint64_t)};
     size_t m = R->m;
-    for (size_t t = 0; t < nt; t++) {
+    /* only the tets this round made: a tet kept from an earlier round was queried or
+     * certified in the round it appeared, and that decision depends on the tet, the boxes and
+     * the layer widths only (D3) */
+    for (size_t t = R->qfrom; t < nt; t++) {
         const uint32_t *v = tv + 4 * t;
         if (v[0] >= m && v[1] >= m && v[2] >= m && v[3] >= m) continue;
         /* the tet */

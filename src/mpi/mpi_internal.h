@@ -121,6 +121,8 @@ typedef struct run {
     gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
     uint32_t *ptv, *ptn;        /* ... or, once patched (mx_patch), DT(S) as 4 vertex ids and */
     size_t pnt;                 /* 4 neighbour tets (GTET_NO_TET on the hull) per tet */
+    size_t qfrom;               /* the local tets this round made start here: the earlier
+                                   ones were decided (queried or certified) before (D3) */
     /* keys of the previous round's queried tets / hull facets, sorted */
     uint64_t (*prev)[4];
     size_t nprev;

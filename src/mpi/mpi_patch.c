@@ -603,6 +603,7 @@ static int merge(patch *X, const fmap *B, const uint32_t *fid, size_t nnew)
     R->ptv = tv;
     R->ptn = tn;
     R->pnt = nt2;
+    R->qfrom = nk;   /* the new tets, made by this round (D3: the kept ones were decided) */
     return 1;
 }
 
@@ -620,6 +621,7 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
     if (!X.tv) return GTET_OK;
     if (n_old == R->ns) {   /* nothing new here (other ranks got points): DT(S) stands */
         *done = 1;
+        R->qfrom = X.nt;    /* and every tet of it was decided before */
         return GTET_OK;
     }
     fmap B = {NULL, 0}, WF = {NULL, 0};
