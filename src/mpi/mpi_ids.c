@@ -107,16 +107,7 @@ static int point_lt(const double *a, const double *b)
     return 0;   /* equal, -0.0 == +0.0 */
 }
 
-static const mpt *g_sort_recs;
-static int cmp_rec_idx(const void *a, const void *b)
-{
-    const mpt *x = g_sort_recs + *(const size_t *)a, *y = g_sort_recs + *(const size_t *)b;
-    int s = point_lt(x->x, y->x);
-    if (s) return s;
-    return x->id < y->id ? -1 : x->id > y->id;
-}
-
-static int hash_rank(const double *x, int P)
+static uint64_t hash_point(const double *x)
 {
     uint64_t h = 0x1234567ull;
     for (int k = 0; k < 3; k++) {
@@ -125,7 +116,35 @@ static int hash_rank(const double *x, int P)
         memcpy(&b, &v, 8);
         h = mx_mix64(h ^ b);
     }
-    return (int)(h % (uint64_t)P);
+    return h;
+}
+
+static int hash_rank(const double *x, int P)
+{
+    return (int)(hash_point(x) % (uint64_t)P);
+}
+
+/* first[k] = the record with the smallest id among those at rb[k]'s coordinates: a hash table
+ * of the groups (open addressing on the coordinates' hash, a slot holds the group's
+ * smallest-id record), O(m) where sorting the records was this step's largest cost; -1 out of
+ * memory */
+static int first_occurrences(const mpt *rb, size_t m, size_t *first)
+{
+    size_t cap = 16;
+    while (cap < 2 * m) cap *= 2;
+    size_t *slot = mx_malloc(cap * sizeof *slot);
+    if (!slot) return -1;
+    memset(slot, 0xff, cap * sizeof *slot);
+    for (size_t k = 0; k < m; k++) {
+        size_t j = (size_t)hash_point(rb[k].x) & (cap - 1);
+        while (slot[j] != SIZE_MAX && point_lt(rb[slot[j]].x, rb[k].x) != 0)
+            j = (j + 1) & (cap - 1);
+        if (slot[j] == SIZE_MAX || rb[k].id < rb[slot[j]].id) slot[j] = k;
+        first[k] = j;
+    }
+    for (size_t k = 0; k < m; k++) first[k] = slot[first[k]];
+    free(slot);
+    return 0;
 }
 
 gtet_status mx_step_dedup(run *R)
@@ -162,20 +181,12 @@ gtet_status mx_step_dedup(run *R)
         if ((s = mx_exchange(c, sb, scnt, sizeof(mpt), &r, rcnt, &m, 0)) != GTET_OK) goto done;
         rb = r;
     }
-    ord = mx_malloc(m * sizeof *ord);
+    ord = mx_malloc(m * sizeof *ord);   /* each record's group's first occurrence */
     rep = mx_malloc((m > n ? m : n) * sizeof *rep);
-    if (!ord || !rep) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if (!ord || !rep || first_occurrences(rb, m, ord) != 0)
+        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
-    for (size_t k = 0; k < m; k++) ord[k] = k;
-    g_sort_recs = rb;
-    mpi_sort(ord, m, sizeof *ord, cmp_rec_idx);
-    /* each record learns its group's first occurrence */
-    for (size_t a = 0; a < m;) {
-        size_t b = a + 1;
-        while (b < m && point_lt(rb[ord[a]].x, rb[ord[b]].x) == 0) b++;
-        for (size_t k = a; k < b; k++) rep[ord[k]] = rb[ord[a]].id;
-        a = b;
-    }
+    for (size_t k = 0; k < m; k++) rep[k] = rb[ord[k]].id;
     {
         void *r;
         size_t tot;
@@ -224,13 +235,7 @@ gtet_status mx_step_dedup(run *R)
             goto done;
         back = r;
     }
-    for (size_t a = 0; a < m;) {
-        size_t b = a + 1;
-        while (b < m && point_lt(rb[ord[a]].x, rb[ord[b]].x) == 0) b++;
-        uint64_t vid = back[ord[a]];
-        for (size_t k = a; k < b; k++) rep[ord[k]] = vid;
-        a = b;
-    }
+    for (size_t k = 0; k < m; k++) rep[k] = back[ord[k]];
     free(back);
     back = NULL;
     {
