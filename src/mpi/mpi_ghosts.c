@@ -94,16 +94,6 @@ static gtet_status triangulate_local(run *R)
 /* 5. ghost seeding, 6. rounds                                                                */
 /* ------------------------------------------------------------------------------------------ */
 
-static double box_dist(const double *box, const double *x)
-{
-    double d2 = 0;
-    for (int k = 0; k < 3; k++) {
-        double e = fmax(box[k] - x[k], fmax(0.0, x[k] - box[3 + k]));
-        d2 += e * e;
-    }
-    return sqrt(d2);
-}
-
 static gtet_status exchange_vecs(run *R, vec *out, size_t rs, void **rb, size_t *rcnt,
                                  size_t *rtot)
 {
@@ -146,14 +136,14 @@ double mx_layer_width(const run *R, int q)
 }
 
 /* Does rank q's seeded layer around this tile's box hold every point of the ball?  Rank q sent
- * this rank each tile point x with fl(box_dist(B_me, x)) <= layer_width(q) (mx_step_seed).  For
- * x in the ball, the exact distance is at most dist(B_me, c) + r, and box_dist's rounding is
- * far below the relative 1e-9 margins (a subtraction, squares, a sum and a square root: a few
- * ulps); so then every point of tile q in the ball is in S already (D3). */
+ * this rank each tile point x with fl(mx_box_dist(B_me, x)) <= layer_width(q) (mx_step_seed).
+ * For x in the ball, the exact distance is at most dist(B_me, c) + r, and mx_box_dist's
+ * rounding is far below the relative 1e-9 margins (a subtraction, squares, a sum and a square
+ * root: a few ulps); so then every point of tile q in the ball is in S already (D3). */
 static int seed_covers(const run *R, const ball *B, int q)
 {
     if (B->all) return 0;
-    double d = box_dist(R->box + 6 * R->c.rank, B->c);
+    double d = mx_box_dist(R->box + 6 * R->c.rank, B->c);
     return (d * (1 + 1e-9) + B->r * (1 + 1e-9)) * (1 + 1e-9) <= mx_layer_width(R, q) * (1 - 1e-9);
 }
 
@@ -195,7 +185,7 @@ gtet_status mx_step_seed(run *R, double layer)
         for (size_t i = 0; i < R->m && s == GTET_OK; i++)
             for (int q = 0; q < P; q++) {
                 if (q == me || R->tcount[q] == 0) continue;
-                if (box_dist(R->box + 6 * q, R->tile[i].x) > delta) continue;
+                if (mx_box_dist(R->box + 6 * q, R->tile[i].x) > delta) continue;
                 mpt *o = mx_vec_push(&out[q]);
                 if (!o || mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)P + (uint64_t)q) < 0) {
                     s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");

@@ -165,16 +165,11 @@ gtet_status mx_step_dedup(run *R)
     if (!scnt || !rcnt || !pos || !dst || !sb || !sidx || !R->imap)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
-    for (size_t i = 0; i < n; i++) {
-        dst[i] = hash_rank(R->xyz + 3 * i, P);
-        scnt[dst[i]]++;
-    }
-    for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + scnt[q];
-    for (size_t i = 0; i < n; i++) {
-        size_t k = pos[dst[i]]++;
-        memcpy(sb[k].x, R->xyz + 3 * i, sizeof sb[k].x);
-        sb[k].id = R->first + i;
-        sidx[k] = i;
+    for (size_t i = 0; i < n; i++) dst[i] = hash_rank(R->xyz + 3 * i, P);
+    mx_rank_order(dst, n, P, scnt, pos, sidx);
+    for (size_t k = 0; k < n; k++) {
+        memcpy(sb[k].x, R->xyz + 3 * sidx[k], sizeof sb[k].x);
+        sb[k].id = R->first + sidx[k];
     }
     {
         void *r;

@@ -53,6 +53,14 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
 
 double mx_now(void);
 
+/* the send order of n records bound for ranks dst[i] (a stable counting sort): perm[k] = the
+ * record sent k-th; scnt[q] (zeroed by the caller) gets the count for rank q; pos: P + 1
+ * entries of scratch */
+void mx_rank_order(const int *dst, size_t n, int P, size_t *scnt, size_t *pos, size_t *perm);
+
+/* the floating distance from x to a box (lo[3], hi[3]); 0 inside */
+double mx_box_dist(const double *box, const double *x);
+
 /* qsort of n elements; nothing at all for n < 2, so an empty array may be NULL (the C library's
  * qsort requires a valid pointer even for n == 0). */
 static inline void mpi_sort(void *p, size_t n, size_t size, int (*cmp)(const void *, const void *))

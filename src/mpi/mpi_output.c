@@ -119,17 +119,11 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
         free(dst);
         goto done;
     }
-    for (size_t i = 0; i < nr; i++) {
+    for (size_t i = 0; i < nr; i++)
         dst[i] = (int)(mx_mix64(frs[i].key[0] ^ mx_mix64(frs[i].key[1] ^ mx_mix64(frs[i].key[2]))) %
                        (uint64_t)P);
-        scnt[dst[i]]++;
-    }
-    for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + scnt[q];
-    for (size_t i = 0; i < nr; i++) {
-        size_t k = pos[dst[i]]++;
-        sb[k] = frs[i];
-        perm[k] = i;
-    }
+    mx_rank_order(dst, nr, P, scnt, pos, perm);
+    for (size_t k = 0; k < nr; k++) sb[k] = frs[perm[k]];
     free(dst);
     size_t mr;
     {

@@ -189,16 +189,6 @@ gtet_status mx_grid_build(run *R)
 }
 
 
-static double box_distance(const double *box, const double *x)
-{
-    double d2 = 0;
-    for (int k = 0; k < 3; k++) {
-        double e = fmax(box[k] - x[k], fmax(0.0, x[k] - box[3 + k]));
-        d2 += e * e;
-    }
-    return sqrt(d2);
-}
-
 /* A hull facet's answer (out's records from n0 on, ids still tile indices): only the points
  * within the layer width of this tile of the nearest one's distance to rank `to`'s box, which
  * are marked sent and get their ids back.  The halfspace beyond a facet of `to`'s local hull
@@ -210,11 +200,11 @@ static gtet_status near_hull(run *R, int to, vec *out, size_t n0)
     mpt *o = (mpt *)out->p;
     const double *box = R->box + 6 * to;
     double dmin = INFINITY;
-    for (size_t i = n0; i < out->n; i++) dmin = fmin(dmin, box_distance(box, o[i].x));
+    for (size_t i = n0; i < out->n; i++) dmin = fmin(dmin, mx_box_dist(box, o[i].x));
     double lim = dmin + mx_layer_width(R, R->c.rank);
     size_t w = n0;
     for (size_t i = n0; i < out->n; i++) {
-        if (!(box_distance(box, o[i].x) <= lim)) continue;
+        if (!(mx_box_dist(box, o[i].x) <= lim)) continue;
         uint64_t idx = o[i].id;
         if (mx_hs_add(&R->sent, idx * (uint64_t)R->c.size + (uint64_t)to) < 0)
             return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");

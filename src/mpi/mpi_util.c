@@ -5,6 +5,7 @@
  * enters. */
 #define _POSIX_C_SOURCE 200809L
 #include <limits.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -204,4 +205,22 @@ void *mx_vec_push(vec *v)
         v->cap = cap;
     }
     return v->p + v->rs * v->n++;
+}
+
+void mx_rank_order(const int *dst, size_t n, int P, size_t *scnt, size_t *pos, size_t *perm)
+{
+    for (size_t i = 0; i < n; i++) scnt[dst[i]]++;
+    pos[0] = 0;
+    for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + scnt[q];
+    for (size_t i = 0; i < n; i++) perm[pos[dst[i]]++] = i;
+}
+
+double mx_box_dist(const double *box, const double *x)
+{
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = fmax(box[k] - x[k], fmax(0.0, x[k] - box[3 + k]));
+        d2 += e * e;
+    }
+    return sqrt(d2);
 }
