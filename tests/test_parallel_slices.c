@@ -66,7 +66,7 @@ static int check_case(size_t np, int nth, int rotate, uint64_t distinct, uint64_
     memcpy(orig, pk, np * sizeof *pk);
     size_t begin[256], end[256];
     uint64_t rel[256], bound0;
-    kpar_slices(pk, pts, np, nth, rotate, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, nth, rotate, NULL, tk, ti, begin, end, rel, &bound0);
     int bad = 0;
 #define FAIL(...) do { if (!bad) TEST_CHECK(0, __VA_ARGS__); bad = 1; } while (0)
     size_t at = 0;
@@ -148,7 +148,7 @@ static void test_the_first_retry_cuts_elsewhere(void)
     for (size_t i = 0; i < np; i++) pk[i] = sorted[i] = (uint64_t)i * 1000003u, pts[i] = (uint32_t)i;
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, np, 2, 1, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, 2, 1, NULL, tk, ti, begin, end, rel, &bound0);
     /* the cuts snap to Moore cells within 500 / 64 = 7 points of the equal counts */
     TEST_CHECK(pts[0] >= 243 && pts[0] <= 257 && pk[0] == sorted[pts[0]],
                "rotated start %llu (point %u), expected point 250 +- 7",
@@ -184,7 +184,7 @@ static void test_a_cluster_in_one_cube_is_one_slice(void)
     for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, N, 2, 2, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, N, 2, 2, NULL, tk, ti, begin, end, rel, &bound0);
     const size_t tol = N / 2 / 64, n0 = end[0] - begin[0];
     TEST_CHECK(n0 + 2 * tol >= N / 2 && n0 <= N / 2 + 2 * tol, "slices of %zu and %zu keys", n0,
                end[1] - begin[1]);
@@ -195,10 +195,46 @@ static void test_a_cluster_in_one_cube_is_one_slice(void)
                "the cluster's keys are split %d / %d between the slices", in[0], in[1]);
 }
 
+/* The first retry after cuts from a free origin (NOTES.md E20).  The previous pass (two
+ * threads) had its colour boundaries at keys B0 = 3/10 and B1 = 7/10 of the range, and the
+ * deferred points crowd around them: 3000 keys within d of B0 and 3000 within d of B1.  A
+ * retry that cut by counts half a slice from the first key would cut at B0 and B1 again (the
+ * old code: every crowd split in two).  Specification: with prev given, each crowd lies in one
+ * slice, the two crowds in different ones, and every point of slice k has colour k. */
+static void test_the_retry_after_a_free_origin_cuts_between_the_crowds(void)
+{
+    enum { N = 6000 };
+    static uint64_t pk[N], tk[N];
+    static uint32_t pts[N], ti[N];
+    const uint64_t B0 = KPAR_KEY_MASK / 10 * 3, B1 = KPAR_KEY_MASK / 10 * 7;
+    const uint64_t d = UINT64_C(1) << 50;
+    uint64_t seed = 7;
+    for (size_t i = 0; i < N; i++) pk[i] = (i % 2 ? B1 : B0) - d + rng(&seed) % (2 * d);
+    qsort(pk, N, sizeof *pk, cmp_u64);
+    for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
+    kpar_cuts prev = {.rel = {0, B1 - B0}, .bound0 = B0, .nth = 2};
+    size_t begin[2], end[2];
+    uint64_t rel[2], bound0;
+    kpar_slices(pk, pts, N, 2, 1, &prev, tk, ti, begin, end, rel, &bound0);
+    int crowd[2][2] = {{0, 0}, {0, 0}}, wrong = 0;  /* [crowd][slice] */
+    for (int k = 0; k < 2; k++)
+        for (size_t i = begin[k]; i < end[k]; i++) {
+            crowd[pk[i] > (B0 + B1) / 2][k]++;
+            wrong += kpar_colour_of(pk[i], rel, bound0, 2) != k;
+        }
+    TEST_CHECK(wrong == 0, "%d points have another slice's colour", wrong);
+    TEST_CHECK((crowd[0][0] == 0 || crowd[0][1] == 0) && (crowd[1][0] == 0 || crowd[1][1] == 0),
+               "a crowd around an old boundary is split: %d / %d and %d / %d", crowd[0][0],
+               crowd[0][1], crowd[1][0], crowd[1][1]);
+    TEST_CHECK(end[0] - begin[0] == N / 2, "slices of %zu and %zu points", end[0] - begin[0],
+               end[1] - begin[1]);
+}
+
 int main(void)
 {
     TU_RUN(test_every_point_of_a_slice_has_its_colour_with_and_without_rotation);
     TU_RUN(test_the_first_retry_cuts_elsewhere);
     TU_RUN(test_a_cluster_in_one_cube_is_one_slice);
+    TU_RUN(test_the_retry_after_a_free_origin_cuts_between_the_crowds);
     return tu_finish();
 }

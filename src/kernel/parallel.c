@@ -25,8 +25,9 @@
  *   alpha <= 1/n       -> the rest of the round is inserted sequentially,
  *   1/n < alpha <= 1/6 -> half the threads (reduction),
  *   otherwise          -> same threads, new partitions: the round's first retry cuts the
- *                         same curve half a slice further along the loop (no re-keying), later
- *                         ones use an enlarged, shifted box.
+ *                         same curve in the middles of the first pass's slices' deferred
+ *                         points (no re-keying: NOTES.md E6, E20), later ones use an
+ *                         enlarged, shifted box.
  * Termination (proofs/termination.md): a parallel pass that goes on inserts more than a 1/n
  * fraction of the pending points, so their number shrinks geometrically, and the sequential
  * insertion (no colours) always succeeds.
@@ -230,7 +231,7 @@ static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, uint32_t c
 /* The keys, slices and colours of a pass (O1): thread k's slice is pts[begin[k] .. end[k]),
  * and the vertices 0..nmesh-1 get the colours of the key ranges.  The keys: kpar.keys (the
  * BRIO's, or the tight box's computed once) in a round's first pass and its first retry (cut
- * half a slice further along the loop: kpar_slices); later passes re-key the vertices in the
+ * between the first pass's cuts, P->cuts: kpar_slices); later passes re-key the vertices in the
  * mesh on an enlarged, shifted box (paper section 4.2). */
 static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
                            unsigned pass, size_t begin[], size_t end[])
@@ -262,8 +263,11 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
     }
     if (unsorted) sort_radix_pairs(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
     uint64_t rel[256], bound0;
-    kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, P->tk, P->ti, begin, end, rel,
-                &bound0);
+    kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, pass == 1 ? &P->cuts : NULL, P->tk,
+                P->ti, begin, end, rel, &bound0);
+    memcpy(P->cuts.rel, rel, (size_t)nth * sizeof *rel);
+    P->cuts.bound0 = bound0;
+    P->cuts.nth = nth;
     uint8_t *col = P->colour;
 #pragma omp parallel for num_threads(nth) schedule(static)
     for (size_t v = 0; v < nmesh; v++) {

@@ -19,6 +19,7 @@ typedef struct kpar {
     int key_shift;
     int have_keys;
     int own3;           /* passes use three-of-four ownership (after a failed pass, kpar_round) */
+    kpar_cuts cuts;     /* the last parallel pass's colour ranges (the first retry's cuts) */
     uint64_t *skeys;    /* per vertex in the mesh, keys on a later pass's shifted box */
     uint64_t *pk, *tk;  /* pending points' keys and radix scratch */
     uint32_t *ti;

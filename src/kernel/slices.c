@@ -113,24 +113,57 @@ static size_t best_origin(const uint64_t *pk, size_t np, int nth, size_t s, size
     return best;
 }
 
+/* The first retry's cut targets from the previous pass's colour ranges (NOTES.md E20): old
+ * slice j's deferred points form one arc of the loop (its colour range), and the new cut j
+ * goes to the middle of that arc (by count), as far as it can be from the old boundaries,
+ * where the deferred points crowd.  (A rotation by half a slice of pending points does this
+ * only when the old cuts started at the loop's origin, key 0: after a free origin, best_origin,
+ * it put the new cuts on the old boundaries, and the retry failed.)  0 when some old slice has
+ * no deferred point, or every point has one old colour. */
+static int retry_targets(const uint64_t *pk, size_t np, int nth, const kpar_cuts *prev,
+                         size_t tgt[])
+{
+    size_t o = np, cnt[256] = {0};
+    int before = kpar_colour_of(pk[np - 1], prev->rel, prev->bound0, nth);
+    for (size_t i = 0; i < np; i++) {
+        const int c = kpar_colour_of(pk[i], prev->rel, prev->bound0, nth);
+        cnt[c]++;
+        if (c == 0 && before != 0 && o == np) o = i;  /* where old colour 0's arc starts */
+        before = c;
+    }
+    if (o == np) return 0;
+    size_t at = o;
+    for (int j = 0; j < nth; j++) {
+        if (cnt[j] == 0) return 0;
+        tgt[j] = (at + cnt[j] / 2) % np;
+        at += cnt[j];
+    }
+    return 1;
+}
+
 /* Slices cut at the coarsest Moore-cell boundaries within slice / CUT_TOL points of the equal
- * counts (E12): origin 0 (mode 0), half a slice in (mode 1, a round's first retry: E6), or
- * the origin whose cuts are coarsest (mode 2, a round's first pass: the cuts of a dense
- * cluster that holds a slice's worth of points are its cube's faces).  The colour boundaries
- * are the cells' keys B of the gaps (gap_level), so colour regions are unions of cubes.  0
- * (nothing changed) when a slice is too small for any freedom or a window holds only equal
- * keys: the caller then cuts by equal counts. */
+ * counts (E12) from origin 0 (mode 0), or the first retry's targets (mode 1: the middles of
+ * the previous pass's slices' deferred points when prev is given for as many threads,
+ * retry_targets; else half a slice in, E6), or the origin whose cuts are coarsest (mode 2, a
+ * round's first pass: the cuts of a dense cluster that holds a slice's worth of points are
+ * its cube's faces).  The colour boundaries are the cells' keys B of the gaps (gap_level), so
+ * colour regions are unions of cubes.  0 (nothing changed) when a slice is too small for any
+ * freedom or a window holds only equal keys: the caller then cuts by equal counts. */
 static int cut_on_cells(uint64_t *pk, uint32_t *pts, size_t np, int nth, int mode,
-                        uint64_t *tk, uint32_t *ti, size_t begin[], size_t end[],
-                        uint64_t rel[], uint64_t *bound0)
+                        const kpar_cuts *prev, uint64_t *tk, uint32_t *ti, size_t begin[],
+                        size_t end[], uint64_t rel[], uint64_t *bound0)
 {
     const size_t s = np / (size_t)nth, tol = s / CUT_TOL;
     if (tol == 0) return 0;
-    const size_t r = mode == 2 ? best_origin(pk, np, nth, s, tol, (int8_t *)tk)
-                               : mode == 1 ? s / 2 : 0;
+    size_t tgt[256];
+    if (!(mode == 1 && prev && prev->nth == nth && retry_targets(pk, np, nth, prev, tgt))) {
+        const size_t r = mode == 2 ? best_origin(pk, np, nth, s, tol, (int8_t *)tk)
+                                   : mode == 1 ? s / 2 : 0;
+        for (int j = 0; j < nth; j++) tgt[j] = (r + (size_t)j * s) % np;
+    }
     size_t gap[256];
     for (int j = 0; j < nth; j++) {
-        const long g = snap_cut(pk, np, (r + (size_t)j * s) % np, tol);
+        const long g = snap_cut(pk, np, tgt[j], tol);
         if (g < 0) return 0;
         gap[j] = (size_t)g;
     }
@@ -151,8 +184,9 @@ static int cut_on_cells(uint64_t *pk, uint32_t *pts, size_t np, int nth, int mod
 }
 
 /* Slices and colour ranges of a pass (O1).  pk[0..np) sorted, pts alongside.  First the cuts
- * on Moore cells (cut_on_cells; rotate: 0 origin at the first key, 1 half a slice in, 2 the
- * coarsest origin); when they are not possible, equal counts as follows.
+ * on Moore cells (cut_on_cells; rotate: 0 origin at the first key, 1 the middles of the
+ * previous pass's slices' deferred points, or half a slice in, 2 the coarsest origin); when
+ * they are not possible, equal counts as follows.
  * The first retry of a round (rotate) keeps the tight box's keys -- no re-keying of the mesh --
  * and moves every cut by half a slice along the loop: pk and pts become the cyclic order
  * starting half a slice in (never between equal keys).  The deferred points lie near the last
@@ -168,23 +202,24 @@ static int cut_on_cells(uint64_t *pk, uint32_t *pts, size_t np, int nth, int mod
  * past every key when none follows, so that it never wins.  Ranges are measured from the first
  * non-empty slice's boundary (slice 0 is empty when np < nth: the kernel never cuts so few
  * points; test_parallel_slices covers it). */
-void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, uint64_t *tk,
-                 uint32_t *ti, size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0)
+void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate,
+                 const kpar_cuts *prev, uint64_t *tk, uint32_t *ti, size_t begin[], size_t end[],
+                 uint64_t rel[], uint64_t *bound0)
 {
-    if (cut_on_cells(pk, pts, np, nth, rotate, tk, ti, begin, end, rel, bound0)) return;
+    if (cut_on_cells(pk, pts, np, nth, rotate, prev, tk, ti, begin, end, rel, bound0)) return;
     if (rotate == 1) {
         size_t off = np / (2 * (size_t)nth);
         while (off > 0 && off < np && pk[off] == pk[off - 1]) off++;
         if (off > 0 && off < np) rotate_pending(pk, pts, np, off, tk, ti);
     }
-    size_t prev = 0;
+    size_t at = 0;
     for (int k = 0; k < nth; k++) {
-        size_t b = prev, e = (k == nth - 1) ? np : np / (size_t)nth * (size_t)(k + 1);
+        size_t b = at, e = (k == nth - 1) ? np : np / (size_t)nth * (size_t)(k + 1);
         if (e < b) e = b;
         while (e < np && e > 0 && pk[e] == pk[e - 1]) e++;
         begin[k] = b;
         end[k] = e;
-        prev = e;
+        at = e;
     }
     uint64_t b0 = 0;
     for (int k = nth - 1; k >= 0; k--) {

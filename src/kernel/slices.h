@@ -10,13 +10,22 @@
 #define KPAR_KEY_BITS 21                         /* per axis */
 #define KPAR_KEY_MASK ((UINT64_C(1) << 63) - 1)  /* 63-bit Moore keys, 21 bits per axis */
 
+/* A pass's colour ranges (kpar_colour_of), kept for the next pass's cuts. */
+typedef struct kpar_cuts {
+    uint64_t rel[256];
+    uint64_t bound0;
+    int nth;
+} kpar_cuts;
+
 /* Cut the sorted pending keys pk[0..np) (pts alongside; both may be rotated cyclically) into
  * nth slices [begin[k], end[k]) and colour ranges rel[], bound0 (kpar_colour_of); rotate: 0
  * cuts from the first key, 1 half a slice further along the loop (a round's first retry), 2
- * from the origin whose cuts are coarsest (a round's first pass).  tk, ti: scratch of np
- * entries each. */
-void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate, uint64_t *tk,
-                 uint32_t *ti, size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0);
+ * from the origin whose cuts are coarsest (a round's first pass).  prev: NULL, or with rotate
+ * 1 the previous pass's ranges on the same keys, whose slices' middles the cuts then take.
+ * tk, ti: scratch of np entries each. */
+void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate,
+                 const kpar_cuts *prev, uint64_t *tk, uint32_t *ti, size_t begin[], size_t end[],
+                 uint64_t rel[], uint64_t *bound0);
 
 /* The colour of a vertex with 63-bit key `key`: the largest k with rel[k] <= key measured from
  * bound0 along the loop. */
