@@ -66,7 +66,7 @@ static int check_case(size_t np, int nth, int rotate, uint64_t distinct, uint64_
     memcpy(orig, pk, np * sizeof *pk);
     size_t begin[256], end[256];
     uint64_t rel[256], bound0;
-    kpar_slices(pk, pts, np, nth, rotate, NULL, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, nth, rotate, NULL, 0, tk, ti, begin, end, rel, &bound0);
     int bad = 0;
 #define FAIL(...) do { if (!bad) TEST_CHECK(0, __VA_ARGS__); bad = 1; } while (0)
     size_t at = 0;
@@ -148,7 +148,7 @@ static void test_the_first_retry_cuts_elsewhere(void)
     for (size_t i = 0; i < np; i++) pk[i] = sorted[i] = (uint64_t)i * 1000003u, pts[i] = (uint32_t)i;
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, np, 2, 1, NULL, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, 2, 1, NULL, 0, tk, ti, begin, end, rel, &bound0);
     /* the cuts snap to Moore cells within 500 / 64 = 7 points of the equal counts */
     TEST_CHECK(pts[0] >= 243 && pts[0] <= 257 && pk[0] == sorted[pts[0]],
                "rotated start %llu (point %u), expected point 250 +- 7",
@@ -184,7 +184,7 @@ static void test_a_cluster_in_one_cube_is_one_slice(void)
     for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, N, 2, 2, NULL, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, N, 2, 2, NULL, 0, tk, ti, begin, end, rel, &bound0);
     const size_t tol = N / 2 / 64, n0 = end[0] - begin[0];
     TEST_CHECK(n0 + 2 * tol >= N / 2 && n0 <= N / 2 + 2 * tol, "slices of %zu and %zu keys", n0,
                end[1] - begin[1]);
@@ -215,7 +215,7 @@ static void test_the_retry_after_a_free_origin_cuts_between_the_crowds(void)
     kpar_cuts prev = {.rel = {0, B1 - B0}, .bound0 = B0, .nth = 2};
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, N, 2, 1, &prev, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, N, 2, 1, &prev, 0, tk, ti, begin, end, rel, &bound0);
     int crowd[2][2] = {{0, 0}, {0, 0}}, wrong = 0;  /* [crowd][slice] */
     for (int k = 0; k < 2; k++)
         for (size_t i = begin[k]; i < end[k]; i++) {
@@ -230,11 +230,47 @@ static void test_the_retry_after_a_free_origin_cuts_between_the_crowds(void)
                end[1] - begin[1]);
 }
 
+/* Cost-weighted cuts (NOTES.md E21).  The 40000 keys of the cluster test, and a fine_span
+ * (2^40) under which the cluster's keys are fine (17 consecutive ones span about 2^36 16 /
+ * 20000 keys) and the spread ones are not (about 2^63 16 / 20000): a cluster key weighs 13, a
+ * spread one 10.  Specification: the two slices' weights differ by at most 2 cuts' snap
+ * windows (4 tol keys of weight 13), and every point of slice k has colour k.  Equal counts
+ * with the cluster whole (the cuts without weights) differ by 60000. */
+static void test_cuts_balance_the_weights_of_fine_and_coarse_keys(void)
+{
+    enum { N = 40000 };
+    static uint64_t pk[N], tk[N];
+    static uint32_t pts[N], ti[N];
+    uint64_t seed = 99;
+    const uint64_t cube = UINT64_C(3) << 57 | UINT64_C(5) << 54, side = UINT64_C(1) << 36;
+    for (size_t i = 0; i < N; i++) {
+        if (i % 2) pk[i] = cube + rng(&seed) % side;
+        else do pk[i] = rng(&seed) & KPAR_KEY_MASK; while (pk[i] >= cube && pk[i] < cube + side);
+    }
+    qsort(pk, N, sizeof *pk, cmp_u64);
+    for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
+    size_t begin[2], end[2];
+    uint64_t rel[2], bound0;
+    kpar_slices(pk, pts, N, 2, 2, NULL, UINT64_C(1) << 40, tk, ti, begin, end, rel, &bound0);
+    long wt[2] = {0, 0};
+    int wrong = 0;
+    for (int k = 0; k < 2; k++)
+        for (size_t i = begin[k]; i < end[k]; i++) {
+            wt[k] += pk[i] >= cube && pk[i] < cube + side ? 13 : 10;
+            wrong += kpar_colour_of(pk[i], rel, bound0, 2) != k;
+        }
+    const long tol = N / 2 / 64;
+    TEST_CHECK(wrong == 0, "%d points have another slice's colour", wrong);
+    TEST_CHECK(labs(wt[0] - wt[1]) <= 4 * tol * 13, "slice weights %ld and %ld (%zu and %zu keys)",
+               wt[0], wt[1], end[0] - begin[0], end[1] - begin[1]);
+}
+
 int main(void)
 {
     TU_RUN(test_every_point_of_a_slice_has_its_colour_with_and_without_rotation);
     TU_RUN(test_the_first_retry_cuts_elsewhere);
     TU_RUN(test_a_cluster_in_one_cube_is_one_slice);
     TU_RUN(test_the_retry_after_a_free_origin_cuts_between_the_crowds);
+    TU_RUN(test_cuts_balance_the_weights_of_fine_and_coarse_keys);
     return tu_finish();
 }

@@ -5,10 +5,11 @@
  * nothing is computed or sorted -- or, when the BRIO had to refine crowded cells, 21-bit keys on
  * the tight box computed once per run; on an enlarged and shifted box in later passes, where
  * only the vertices of the mesh are re-keyed), are sorted by key and cut into one slice per
- * thread, never between equal keys: at the coarsest Moore-cell boundary within 1/64 of a slice
- * of equal counts, in a round's first pass from the origin on the loop whose cuts are coarsest
- * (a dense cluster becomes one slice: NOTES.md E12; else halfway along the curve between two
- * slices' neighbouring points).  The colour boundaries lie between two slices' neighbouring
+ * thread, never between equal keys (slices.c): at the coarsest Moore-cell boundary within 1/64
+ * of a slice of equal estimated cost (points denser than the static filter's scale weigh 13/10:
+ * NOTES.md E21), in a round's first pass from the origin on the loop whose equal-count cuts are
+ * coarsest (a dense cluster's faces: E12; else halfway along the curve between two slices'
+ * neighbouring points).  The colour boundaries lie between two slices' neighbouring
  * points (on that cell boundary, or halfway along the curve), and they colour every vertex the mesh holds by the end of the round (colour = the slice range its key falls
  * in); vertices of later rounds are never read.  Thread k inserts the points of slice k, and an
  * insertion goes ahead only if the walk and every tet of the cavity stay within tets of
@@ -239,8 +240,9 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
     kmesh *m = P->m;
     const uint64_t *keys;
     int sh = 0;  /* a vertex's 63-bit key: (keys[v] << sh) & KPAR_KEY_MASK (kpar.keys) */
+    double box[6];  /* the keys' box */
+    memcpy(box, m->box, sizeof box);
     if (pass > 1) {
-        double box[6];
         pass_box(m->box, pass, box);
         sort_moore_keys(m->v, 3, nmesh, box, KEY_BITS, P->skeys, nth);
         keys = P->skeys;
@@ -263,8 +265,8 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
     }
     if (unsorted) sort_radix_pairs(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
     uint64_t rel[256], bound0;
-    kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, pass == 1 ? &P->cuts : NULL, P->tk,
-                P->ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, pass == 1 ? &P->cuts : NULL,
+                kpar_fine_span(box, m->ps.is_seps), P->tk, P->ti, begin, end, rel, &bound0);
     memcpy(P->cuts.rel, rel, (size_t)nth * sizeof *rel);
     P->cuts.bound0 = bound0;
     P->cuts.nth = nth;

@@ -21,11 +21,19 @@ typedef struct kpar_cuts {
  * nth slices [begin[k], end[k]) and colour ranges rel[], bound0 (kpar_colour_of); rotate: 0
  * cuts from the first key, 1 half a slice further along the loop (a round's first retry), 2
  * from the origin whose cuts are coarsest (a round's first pass).  prev: NULL, or with rotate
- * 1 the previous pass's ranges on the same keys, whose slices' middles the cuts then take.
+ * 1 the previous pass's ranges (on the same keys), whose slices' middles the cuts then take.
+ * fine_span: 0, or (rotate 0 and 2) the key span under which 2 * 8 + 1 consecutive points
+ * count as fine, costlier by 13/10 (kpar_fine_span), the cuts then balancing the weights.
  * tk, ti: scratch of np entries each. */
 void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate,
-                 const kpar_cuts *prev, uint64_t *tk, uint32_t *ti, size_t begin[], size_t end[],
-                 uint64_t rel[], uint64_t *bound0);
+                 const kpar_cuts *prev, uint64_t fine_span, uint64_t *tk, uint32_t *ti,
+                 size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0);
+
+/* The fine_span of kpar_slices for keys with `key_bits` bits per axis on box[6] (min x, y, z,
+ * max x, y, z), for a mesh whose static insphere bound is is_seps: the key volume of 2 * 8
+ * points spaced h = is_seps^(1/5) apart, the spacing under which the static bound stops
+ * deciding (|det| ~ h^5); 0 when is_seps is 0 or not finite or the box is flat. */
+uint64_t kpar_fine_span(const double box[6], double is_seps);
 
 /* The colour of a vertex with 63-bit key `key`: the largest k with rel[k] <= key measured from
  * bound0 along the loop. */
