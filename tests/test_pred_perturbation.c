@@ -12,7 +12,9 @@
  *   - ghost rule: never 0 for a non-collinear facet and a distinct e, equals orient3d(a,b,c,e)
  *     when that is non-zero, equals the perturbed coplanar in-circle otherwise, which equals
  *     the exact in-circle sign when that is non-zero (checked against a plain 2D in-circle on
- *     planes z = const), and matches orc_ghost_conflict, on planes that need each projection.
+ *     planes z = const), and matches orc_ghost_conflict, on planes that need each projection;
+ *   - the lattice path (perturbation from the filter's minors) and the integer path (from the
+ *     small-integer stage's minors, pred_static.int23) answer as the general rule.
  */
 #include "oracle/oracle.h"
 #include "pred/pred_internal.h"
@@ -289,6 +291,84 @@ static void test_lattice_perturbation_from_minors_matches_the_general_rule(void)
     TEST_CHECK(bad == 0, "%ld disagreements between the lattice path and the general rule", bad);
 }
 
+/* The integer path (NOTES.md E30; sos.c pred_insphere_sos_rest_log): on a set of integers below
+ * 2^23 (pred_static.int23) too wide for the lattice path, the kernel decides a filtered-out
+ * insphere in the small-integer stage without its range checks and, on a zero, reads the
+ * perturbation's orient3d signs off that stage's exact minors.  Tuples of 5 corners of boxes
+ * (always co-spherical) and of points (x, y, x^2 + y^2) of a paraboloid (many co-spherical
+ * 5-tuples), placed anywhere in (-2^23, 2^23)^3: the answer must equal the general
+ * pred_insphere_sos in both orientations of (a,b,c,d), the minors must give pred_orient3d's
+ * five signs, and int23 must hold exactly for integer sets inside the bound. */
+static void test_integer_perturbation_from_minors_matches_the_general_rule(void)
+{
+    tu_rng r = {23};
+    const double L = 0x1p23;
+    double box[2][3] = {{-L + 1, -L + 1, -L + 1}, {L - 1, L - 1, L - 1}};
+    pred_static ps;
+    pred_static_init(&box[0][0], 3, 2, &ps);
+    TEST_REQUIRE(ps.int23 && !ps.is_exact, "the set (-2^23, 2^23)^3 is not called int23");
+    double out[2][3] = {{0, 0, 0}, {L, 1, 1}};  /* 2^23 itself: outside the bound */
+    pred_static po;
+    pred_static_init(&out[0][0], 3, 2, &po);
+    TEST_CHECK(!po.int23, "a coordinate 2^23 is called int23");
+    out[1][0] = 0.5;                           /* not an integer */
+    pred_static_init(&out[0][0], 3, 2, &po);
+    TEST_CHECK(!po.int23, "a coordinate 0.5 is called int23");
+    long zeros = 0, bad = 0;
+    for (int t = 0; t < 100000; t++) {
+        double q[5][3], o[3];
+        for (int j = 0; j < 3; j++) o[j] = (double)tu_below(&r, 1u << 23) - 0x1p22;
+        if (t & 1) {  /* 5 corners of a box with sides up to 2^21 */
+            double side[3];
+            for (int j = 0; j < 3; j++) side[j] = 1 + (double)tu_below(&r, 1u << 21);
+            int used = 0;
+            for (int i = 0; i < 5; i++) {
+                int c;
+                do c = (int)tu_below(&r, 8); while (used & (1 << c));
+                used |= 1 << c;
+                for (int j = 0; j < 3; j++) q[i][j] = o[j] + ((c >> j) & 1 ? side[j] : 0);
+            }
+        } else {  /* a paraboloid on a 9 x 9 grid, scaled by up to 4 in x and y */
+            const double k = 1 + (double)tu_below(&r, 4);
+            for (int i = 0; i < 5; i++) {
+                const double x = (double)tu_below(&r, 9) - 4, y = (double)tu_below(&r, 9) - 4;
+                q[i][0] = o[0] + k * x;
+                q[i][1] = o[1] + k * y;
+                q[i][2] = o[2] + k * k * (x * x + y * y);
+            }
+        }
+        int distinct = 1;
+        for (int i = 0; i < 5; i++)
+            for (int m = 0; m < i; m++) distinct &= pred_lex_cmp(q[i], q[m]) != 0;
+        gtet_pred_counters k_cnt;
+        memset(&k_cnt, 0, sizeof k_cnt);
+        if (!distinct || pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
+        for (int swap = 0; swap < 2; swap++) {
+            const double *v[5] = {q[swap], q[1 - swap], q[2], q[3], q[4]};
+            const int f = pred_insphere_filter(v[0], v[1], v[2], v[3], v[4], ps.is_seps, NULL);
+            const int ref = pred_insphere_sos(v[0], v[1], v[2], v[3], v[4], &k_cnt);
+            const int got = f ? f : pred_insphere_sos_rest(v[0], v[1], v[2], v[3], v[4], &ps,
+                                                           NULL, &k_cnt);
+            bad += got != ref;
+        }
+        int s0, s1;
+        pred_i128 mn[4];
+        TEST_REQUIRE(pred_insphere_int_m(q[0], q[1], q[2], q[3], q[4], 1, &s1, mn) &&
+                     pred_insphere_int_m(q[0], q[1], q[2], q[3], q[4], 0, &s0, NULL) && s0 == s1,
+                     "the integer stage with and without its checks differ");
+        if (s1 != 0) continue;
+        zeros++;
+        const pred_i128 want[5] = {mn[1], -mn[2], mn[3], -mn[0], ((mn[1] - mn[2]) + mn[3]) - mn[0]};
+        for (int k = 0; k < 5; k++) {
+            const double *w[4] = {q[0], q[1], q[2], q[3]};
+            if (k < 4) w[k] = q[4];
+            bad += pred_orient3d(w[0], w[1], w[2], w[3], &k_cnt) != (want[k] > 0) - (want[k] < 0);
+        }
+    }
+    TEST_CHECK(zeros > 20000, "only %ld exactly co-spherical tuples", zeros);
+    TEST_CHECK(bad == 0, "%ld disagreements between the integer path and the general rule", bad);
+}
+
 /* The lattice path ranks points by one exact key, (p-e)_x 2^22 + (p-e)_y 2^11 + (p-e)_z
  * (sos.c lex_top2_lattice), instead of coordinate-wise lexicographic compares.  That is right
  * only while every coordinate difference stays below 2^10 units, so test it where it is
@@ -360,6 +440,7 @@ int main(void)
     TU_RUN(test_ghost_conflict_at_extreme_scales_matches_oracle);
     TU_RUN(test_lattice_perturbation_from_minors_matches_the_general_rule);
     TU_RUN(test_lattice_ranking_at_the_largest_extent_matches_the_general_rule);
+    TU_RUN(test_integer_perturbation_from_minors_matches_the_general_rule);
     printf("sos decisions %llu (depth %llu %llu %llu %llu)\n", (unsigned long long)cnt.sos_calls,
            (unsigned long long)cnt.sos_depth[0], (unsigned long long)cnt.sos_depth[1],
            (unsigned long long)cnt.sos_depth[2], (unsigned long long)cnt.sos_depth[3]);

@@ -127,8 +127,8 @@ static inline int conflicts(kctx *c, uint32_t t, const double *p)
     const kmesh *m = c->m;
     const uint32_t *v = m->tv + 4 * (size_t)t;
     if (v[3] == KM_GHOST)
-        return pred_ghost_conflict_log(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
-                                       &c->cnt, c->sos_log) > 0;
+        return pred_ghost_conflict_st_log(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
+                                          &m->ps, &c->cnt, c->sos_log) > 0;
     const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
     const double *d = km_pt(m, v[3]);
     /* the filter inline (most calls stop here); the full chain counts its own call */

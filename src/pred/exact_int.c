@@ -53,6 +53,18 @@ static int load_diffs(const double *const *pts, int n, int base, double lim, int
     return 1;
 }
 
+/* load_diffs for coordinates known to be integers of magnitude < 2^23 (pred_static.int23): the
+ * conversions are exact, no test is needed. */
+static inline void load_diffs_known(const double *const *pts, int n, int base, int64_t (*p)[3])
+{
+    const int64_t o[3] = {(int64_t)pts[base][0], (int64_t)pts[base][1], (int64_t)pts[base][2]};
+    for (int k = 0, r = 0; k < n; k++) {
+        if (k == base) continue;
+        for (int j = 0; j < 3; j++) p[r][j] = (int64_t)pts[k][j] - o[j];
+        r++;
+    }
+}
+
 int pred_orient3d_int(const double *a, const double *b, const double *c, const double *d,
                       int *sign)
 {
@@ -80,9 +92,18 @@ int pred_orient3d_int(const double *a, const double *b, const double *c, const d
 int pred_insphere_int(const double *a, const double *b, const double *c, const double *d,
                       const double *e, int *sign)
 {
+    return pred_insphere_int_m(a, b, c, d, e, 0, sign, NULL);
+}
+
+int pred_insphere_int_m(const double *a, const double *b, const double *c, const double *d,
+                        const double *e, int known, int *sign, pred_i128 *mn)
+{
     const double *pts[5] = {a, b, c, d, e};
     int64_t p[4][3];
-    if (!load_diffs(pts, 5, 4, 0x1p23, p)) return 0;
+    if (known)
+        load_diffs_known(pts, 5, 4, p);
+    else if (!load_diffs(pts, 5, 4, 0x1p23, p))
+        return 0;
     int64_t m = 0;
     for (int k = 0; k < 4; k++)
         for (int j = 0; j < 3; j++) m |= iabs64(p[k][j]);
@@ -102,6 +123,7 @@ int pred_insphere_int(const double *a, const double *b, const double *c, const d
         int64_t dab = D[2] * ab + A[2] * bd + B[2] * da;
         int64_t det = (cw * dab - dw * abc) + (aw * bcd - bw * cda);
         *sign = (det > 0) - (det < 0);
+        if (det == 0 && mn) mn[0] = abc, mn[1] = bcd, mn[2] = cda, mn[3] = dab;
         return 1;
     }
     i128 abc = (i128)A[2] * bc - (i128)B[2] * ac + (i128)C[2] * ab;
@@ -109,6 +131,7 @@ int pred_insphere_int(const double *a, const double *b, const double *c, const d
     i128 cda = (i128)C[2] * da + (i128)D[2] * ac + (i128)A[2] * cd;
     i128 dab = (i128)D[2] * ab + (i128)A[2] * bd + (i128)B[2] * da;
     *sign = sign128((cw * dab - dw * abc) + (aw * bcd - bw * cda));
+    if (*sign == 0 && mn) mn[0] = abc, mn[1] = bcd, mn[2] = cda, mn[3] = dab;
     return 1;
 }
 

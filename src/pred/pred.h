@@ -56,6 +56,8 @@ int pred_insphere_exact(const double *a, const double *b, const double *c, const
 typedef struct pred_static {
     double o3_seps, is_seps;   /* static bounds (0 when exact), or PRED_NO_STATIC */
     int o3_exact, is_exact;    /* the filter's det~ is the exact determinant */
+    int int23;                 /* every coordinate is an integer of magnitude < 2^23: the
+                                  small-integer insphere stage applies to every tuple */
 } pred_static;
 extern const pred_static pred_static_none;
 void pred_static_init(const double *xyz, size_t stride, size_t n, pred_static *ps);
@@ -122,6 +124,11 @@ int pred_insphere_sos_rest_log(const double *a, const double *b, const double *c
                                const double *minors, pred_counters *cnt, pred_sos_log *log);
 int pred_ghost_conflict_log(const double *a, const double *b, const double *c,
                             const double *e, pred_counters *cnt, pred_sos_log *log);
+/* The same for points of ps's set: its orient3d with the static bound and lattice exactness
+ * (pred_orient3d_st); the same answer (NOTES.md E31). */
+int pred_ghost_conflict_st_log(const double *a, const double *b, const double *c,
+                               const double *e, const pred_static *ps, pred_counters *cnt,
+                               pred_sos_log *log);
 
 /* Perturbed in-circle of e against the circle through a,b,c in their common plane (all four
  * coplanar): +1 inside, -1 outside, never 0 for distinct points with a,b,c not collinear. */

@@ -32,6 +32,15 @@ int pred_orient3d_int(const double *a, const double *b, const double *c, const d
                       int *sign);
 int pred_insphere_int(const double *a, const double *b, const double *c, const double *d,
                       const double *e, int *sign);
+/* pred_insphere_int (with known = 1: the caller knows that every coordinate is an integer of
+ * magnitude < 2^23, pred_static.int23, and the checks are skipped) that, when the sign is 0
+ * and mn is not NULL, also stores the exact 3x3
+ * minors abc, bcd, cda, dab of the translated points a - e, ... in mn[0..3] (the order and
+ * signs of pred_insphere_filter's minors): the perturbation reads its orient3d signs off them
+ * (sos.c).  |minor| < 2^75. */
+__extension__ typedef __int128 pred_i128;
+int pred_insphere_int_m(const double *a, const double *b, const double *c, const double *d,
+                        const double *e, int known, int *sign, pred_i128 *mn);
 /* orient3d / insphere on the exact integer form of the tuple (common power of two removed)
  * when every integer is below 2^60: 64/128/192(/320)-bit fixed-width evaluation
  * (exact_int.c). */

@@ -236,12 +236,30 @@ static int orient_from_minors(const double *mn, int k)
     return (v > 0) - (v < 0);
 }
 
+/* orient_from_minors on the exact integer minors of pred_insphere_int_m (|minor| < 2^75, so
+ * the sum of four cannot overflow), counted as an orient3d call as the lattice path counts
+ * its reads of the minors. */
+static int orient_from_int_minors(const pred_i128 *mn, int k, pred_counters *cnt)
+{
+    pred_i128 v;
+    switch (k) {
+    case 0: v = mn[1]; break;
+    case 1: v = -mn[2]; break;
+    case 2: v = mn[3]; break;
+    case 3: v = -mn[0]; break;
+    default: v = ((mn[1] - mn[2]) + mn[3]) - mn[0]; break;
+    }
+    cnt->orient_calls++;
+    if (v == 0 && k < 4) cnt->orient_zero++;
+    return (v > 0) - (v < 0);
+}
+
 /* The perturbation of an exactly zero insphere (the file comment), its orient3d evaluated for
- * points of ps's set, or read off the exact minors mn (lattice, pred_insphere_filter) when
- * not NULL. */
+ * points of ps's set, or read off the exact minors mn (lattice, pred_insphere_filter) or the
+ * exact integer minors im (pred_insphere_int_m) when not NULL. */
 static int insphere_perturbed(const double *a, const double *b, const double *c, const double *d,
                               const double *e, const pred_static *ps, const double *mn,
-                              pred_counters *cnt, pred_sos_log *log)
+                              const pred_i128 *im, pred_counters *cnt, pred_sos_log *log)
 {
     cnt->sos_calls++;
     const double *p[5] = {a, b, c, d, e};
@@ -257,7 +275,9 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
              * CGAL's precondition orient3d > 0; the general form keeps the result
              * antisymmetric in (a,b,c,d) when the tet is negatively oriented. */
             int o;
-            if (mn) {
+            if (im) {
+                o = orient_from_int_minors(im, 4, cnt);
+            } else if (mn) {
                 cnt->orient_calls++;
                 o = orient_from_minors(mn, 4);
             } else {
@@ -266,7 +286,9 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
             return decided(cnt, log, GTET_DEGENERACY_COSPHERICAL, p, 5, i + 1, o != 0 ? -o : -1);
         }
         int o;
-        if (mn) {
+        if (im) {
+            o = orient_from_int_minors(im, k, cnt);
+        } else if (mn) {
             cnt->orient_calls++;
             o = orient_from_minors(mn, k);
             if (o == 0) cnt->orient_zero++;
@@ -286,7 +308,7 @@ int pred_insphere_sos(const double *a, const double *b, const double *c, const d
 {
     const int s = pred_insphere(a, b, c, d, e, cnt);
     if (s != 0) return s;
-    return insphere_perturbed(a, b, c, d, e, &pred_static_none, NULL, cnt, NULL);
+    return insphere_perturbed(a, b, c, d, e, &pred_static_none, NULL, NULL, cnt, NULL);
 }
 
 int pred_insphere_sos_rest_log(const double *a, const double *b, const double *c,
@@ -296,11 +318,24 @@ int pred_insphere_sos_rest_log(const double *a, const double *b, const double *c
     cnt->insphere_calls++;
     if (ps->is_exact) {  /* det~ == 0 is the exact determinant */
         cnt->insphere_zero++;
-    } else {
-        const int s = pred_insphere_exact(a, b, c, d, e, cnt);
-        if (s != 0) return s;
+        return insphere_perturbed(a, b, c, d, e, ps, minors, NULL, cnt, log);
     }
-    return insphere_perturbed(a, b, c, d, e, ps, ps->is_exact ? minors : NULL, cnt, log);
+    /* a set of small integers (grids, the paraboloid): the integer stage decides, without its
+     * range checks (any other set tries it first in pred_insphere_exact), and on a zero hands
+     * over its exact minors, off which the perturbation reads its orient3d signs (NOTES.md
+     * E30); counted as pred_insphere_exact counts it */
+    pred_i128 im[4];
+    int s;
+    if (ps->int23 && pred_insphere_int_m(a, b, c, d, e, 1, &s, im)) {  /* always applies */
+        cnt->insphere_exact++;
+        cnt->insphere_int++;
+        if (s != 0) return s;
+        cnt->insphere_zero++;
+        return insphere_perturbed(a, b, c, d, e, ps, NULL, im, cnt, log);
+    }
+    s = pred_insphere_exact(a, b, c, d, e, cnt);
+    if (s != 0) return s;
+    return insphere_perturbed(a, b, c, d, e, ps, NULL, NULL, cnt, log);
 }
 
 int pred_insphere_sos_rest(const double *a, const double *b, const double *c, const double *d,
@@ -314,6 +349,15 @@ int pred_ghost_conflict_log(const double *a, const double *b, const double *c,
                             const double *e, pred_counters *cnt, pred_sos_log *log)
 {
     const int o = pred_orient3d(a, b, c, e, cnt);
+    if (o != 0) return o;
+    return incircle_coplanar_sos(a, b, c, e, cnt, log);
+}
+
+int pred_ghost_conflict_st_log(const double *a, const double *b, const double *c,
+                               const double *e, const pred_static *ps, pred_counters *cnt,
+                               pred_sos_log *log)
+{
+    const int o = pred_orient3d_st(a, b, c, e, ps, cnt);
     if (o != 0) return o;
     return incircle_coplanar_sos(a, b, c, e, cnt, log);
 }

@@ -18,7 +18,7 @@
 #include <math.h>
 #include <string.h>
 
-const pred_static pred_static_none = {PRED_NO_STATIC, PRED_NO_STATIC, 0, 0};
+const pred_static pred_static_none = {PRED_NO_STATIC, PRED_NO_STATIC, 0, 0, 0};
 
 /* The exponent of the lowest set bit of x != 0 (x = odd * 2^q). */
 static int low_exponent(double x)
@@ -64,6 +64,11 @@ void pred_static_init_mt(const double *xyz, size_t stride, size_t n, int threads
     }
     const double lo[3] = {lo0, lo1, lo2}, hi[3] = {hi0, hi1, hi2};
     if (box) box[0] = lo0, box[1] = lo1, box[2] = lo2, box[3] = hi0, box[4] = hi1, box[5] = hi2;
+    /* integers (lowest set bit at 2^0 or above, or all zero) of magnitude < 2^23: the domain
+     * of pred_insphere_int for every tuple of the set (NOTES.md E30) */
+    const double lim = 0x1p23;
+    ps->int23 = s >= 0 && lo0 > -lim && lo1 > -lim && lo2 > -lim && hi0 < lim && hi1 < lim &&
+                hi2 < lim;
     const double X = hi[0] - lo[0], Y = hi[1] - lo[1], Z = hi[2] - lo[2];
     if (!(X <= PRED_O3_HI && Y <= PRED_O3_HI && Z <= PRED_O3_HI)) return;  /* inf, NaN, huge */
     ps->o3_seps = pred_orient3d_static_eps(X, Y, Z);
