@@ -146,8 +146,9 @@ static void print_rounds(const gtet_stats *st)
 }
 
 /* The memory guard's estimate for this run (gtet_estimate_memory, with the checker when
- * --check ran) plus the input array this process holds (24 bytes a point): comparable with
- * the measured peak RSS. */
+ * --check ran) plus, with --check, the input array this process holds through the run (24
+ * bytes a point; without it the array is freed before the peak): comparable with the
+ * measured peak RSS. */
 static size_t estimated_peak(const tri_args *a, const gtet_mesh *mesh, int threads)
 {
     gtet_options o;
@@ -157,7 +158,7 @@ static size_t estimated_peak(const tri_args *a, const gtet_mesh *mesh, int threa
     o.degeneracies = a->degen != NULL;
     o.degeneracy_limit = (size_t)a->degen_limit;
     const size_t n = gtet_mesh_num_points(mesh);
-    return gtet_estimate_memory(n, &o) + 3 * sizeof(double) * n;
+    return gtet_estimate_memory(n, &o) + (a->check ? 3 * sizeof(double) * n : 0);
 }
 
 /* The --stats object, one line. */
