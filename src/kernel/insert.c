@@ -79,6 +79,7 @@ void kctx_init(kctx *c, kmesh *m, uint64_t seed)
     memset(c, 0, sizeof *c);
     c->m = m;
     c->rng = seed * 0x9e3779b97f4a7c15ULL + 1;
+    c->last_ghost = UINT32_MAX;
 }
 
 void kctx_free(kctx *c)
@@ -467,10 +468,46 @@ static void rollback(kctx *c, size_t ncav)
  * hot loop was written); a parallel pass defers through *deferred, with nothing written. */
 #define KM_STEP static inline __attribute__((always_inline))
 
+/* A point outside the hull conflicts with the ghosts of the hull facets it sees (the hull
+ * rule), and consecutive points of a surface sample (sphere, paraboloid: every point on the
+ * hull) are close: the facets the next point sees are usually at or next to the previous
+ * point's.  So when the last insertion was outside the hull, its ghosts and their neighbours
+ * over the hull (a ghost's facets 0..2 face ghosts) are tested first, breadth-first, at most
+ * KM_HULL_TRIES of them; a hit is a conflicting tet like the walk's (any conflicting tet
+ * starts the same cavity: the perturbed mesh is unique), a miss falls back to the walk, which
+ * would cross the slivers under the surface (70 steps a point on the 1M paraboloid).  Serial
+ * only: a parallel pass must not test tets it does not own.  NOTES.md E32. */
+#define KM_HULL_TRIES 8
+static __attribute__((noinline)) uint32_t hull_search(kctx *c, const double *p)
+{
+    const kmesh *m = c->m;
+    const uint32_t g0 = c->last_ghost;
+    if (g0 >= m->nt || km_dead(m, g0) || !km_is_ghost(m, g0)) return UINT32_MAX;
+    uint32_t seen[KM_HULL_TRIES];
+    unsigned n = 0;
+    seen[n++] = g0;
+    for (unsigned i = 0; i < n; i++) {
+        const uint32_t g = seen[i];
+        if (conflicts(c, g, p)) return g;
+        for (int f = 0; f < 3 && n < KM_HULL_TRIES; f++) {
+            const uint32_t h = m->tn[4 * (size_t)g + (size_t)f] >> 2;
+            unsigned q = 0;
+            while (q < n && seen[q] != h) q++;
+            if (q == n) seen[n++] = h;
+        }
+    }
+    return UINT32_MAX;
+}
+
 /* locate: a tet in conflict with p (*t0), or *t0 = UINT32_MAX in a parallel pass when the
  * walk met a tet not this thread's or ran out of steps. */
 KM_STEP gtet_status locate(kctx *c, const double *p, uint32_t *t0)
 {
+    if (__builtin_expect(c->last_ghost != UINT32_MAX, 0) && !c->colour) {
+        *t0 = hull_search(c, p);
+        c->last_ghost = UINT32_MAX;
+        if (*t0 != UINT32_MAX) return GTET_OK;
+    }
     gtet_status s = walk(c, p, t0, 1);
     if (s != GTET_OK || *t0 == UINT32_MAX) return s;
     if (conflicts(c, *t0, p)) return GTET_OK;
@@ -630,6 +667,17 @@ KM_STEP gtet_status fill(kctx *c, size_t ncav, size_t nb, int foreign, int *defe
     return GTET_OK;
 }
 
+/* p, inserted from outside the hull, is a hull vertex now: one of its new ghosts (c->cav
+ * holds the new tets' slots after fill) starts the next hull search (E32). */
+static __attribute__((noinline)) void remember_ghost(kctx *c, size_t nb)
+{
+    for (size_t i = 0; i < nb; i++)
+        if (km_is_ghost(c->m, c->cav[i])) {
+            c->last_ghost = c->cav[i];
+            return;
+        }
+}
+
 gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
 {
     const double *p = km_pt(c->m, pid);
@@ -644,9 +692,12 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     }
     size_t ncav = 0, nb = 0;
     int foreign = 0;
+    const int outside = km_is_ghost(c->m, t0);  /* p beyond a hull facet (the walk's ghost) */
     s = dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred);
     if (s != GTET_OK || *deferred) return s;
-    return fill(c, ncav, nb, foreign, deferred);
+    s = fill(c, ncav, nb, foreign, deferred);
+    if (__builtin_expect(outside, 0) && s == GTET_OK && !*deferred) remember_ghost(c, nb);
+    return s;
 }
 
 gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t d)

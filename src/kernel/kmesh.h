@@ -75,6 +75,9 @@ typedef struct kctx {
     uint32_t *freelist; /* deleted slots not reused yet */
     size_t nfree, free_cap;
     uint32_t last;      /* a live tet near the last insertion: the next walk starts here */
+    uint32_t last_ghost; /* a ghost the last insertion made when its point was outside the
+                            hull (UINT32_MAX: none): the next search over the hull starts
+                            here (serial only, NOTES.md E32) */
     uint64_t rng;
     uint64_t walk_steps, walk_fallbacks, tets_created, big_cavities;
     uint64_t table[KM_LOC_MAX * KM_LOC_MAX]; /* directed edge -> cavity number << 32 | facet
