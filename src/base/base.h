@@ -33,4 +33,8 @@ void base_error(gtet_error *err, gtet_status status, size_t index, int dimension
  * "what: <gtet_status_str(s)>". */
 gtet_status base_fail(gtet_error *err, gtet_status s, const char *what);
 
+/* Ask for transparent huge pages on the 2 MiB pages inside [p, p + bytes) (hugepages.c): a
+ * hint for the big randomly-read arrays; no effect on anything but speed, none off Linux. */
+void base_hugepages(void *p, size_t bytes);
+
 #endif
