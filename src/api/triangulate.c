@@ -126,6 +126,9 @@ static gtet_status order_points(run *r)
     const int threads = r->threads;
     r->order = malloc((nv ? nv : 1) * sizeof *r->order);
     if (!r->order) return base_fail(r->err, GTET_ERR_OUT_OF_MEMORY, "allocating the insertion order");
+    /* read at random when the kernel's tets are renamed to mesh ids (build.c kbuild_finish):
+     * 4 B per tet vertex from an array of 4 B per point (NOTES.md E19) */
+    base_hugepages(r->order, nv * sizeof *r->order);
     uint32_t *order = r->order;
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && nv > 65536)
     for (size_t i = 0; i < nv; i++) order[i] = (uint32_t)i;

@@ -233,6 +233,7 @@ static gtet_status restore_vertices(kbuild *b)
     const uint32_t *order = b->in->order;
     double *v = malloc((nv ? 3 * nv : 3) * sizeof *v);
     if (!v) return GTET_ERR_OUT_OF_MEMORY;
+    base_hugepages(v, 3 * nv * sizeof *v);  /* written at random (NOTES.md E19) */
     const double *sv = b->sv;
 #pragma omp parallel for num_threads(b->threads) schedule(static) if (b->threads > 1 && nv > 65536)
     for (size_t i = 0; i < nv; i++) memcpy(v + 3 * (size_t)order[i], sv + 3 * i, 3 * sizeof *v);
