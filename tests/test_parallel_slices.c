@@ -162,6 +162,24 @@ static void test_the_first_retry_cuts_elsewhere(void)
                "colours of the unrotated halves' points are not the rotated slices'");
 }
 
+/* n sorted keys, every other one inside one aligned range of 8^12 keys that starts 3/10 of
+ * the way along (a cube of the curve: a dense cluster), the rest spread over the whole range
+ * outside it; pts[i] = i. */
+#define CLUSTER_LO (UINT64_C(3) << 57 | UINT64_C(5) << 54)
+#define CLUSTER_SIDE (UINT64_C(1) << 36)
+static int in_cluster(uint64_t k) { return k >= CLUSTER_LO && k < CLUSTER_LO + CLUSTER_SIDE; }
+
+static void cluster_keys(uint64_t *pk, uint32_t *pts, size_t n)
+{
+    uint64_t seed = 99;
+    for (size_t i = 0; i < n; i++) {
+        if (i % 2) pk[i] = CLUSTER_LO + rng(&seed) % CLUSTER_SIDE;
+        else do pk[i] = rng(&seed) & KPAR_KEY_MASK; while (in_cluster(pk[i]));
+    }
+    qsort(pk, n, sizeof *pk, cmp_u64);
+    for (size_t i = 0; i < n; i++) pts[i] = (uint32_t)i;
+}
+
 /* Cuts on Moore cells (kpar_slices, rotate 2: a round's first pass).  40000 keys: 20000
  * spread over the whole range and 20000 inside one aligned range of 8^12 keys (a cube of the
  * curve, a dense cluster), which starts 3/10 of the way along.  With equal counts and origin
@@ -174,14 +192,7 @@ static void test_a_cluster_in_one_cube_is_one_slice(void)
     enum { N = 40000 };
     static uint64_t pk[N], tk[N];
     static uint32_t pts[N], ti[N];
-    uint64_t seed = 99;
-    const uint64_t cube = UINT64_C(3) << 57 | UINT64_C(5) << 54, side = UINT64_C(1) << 36;
-    for (size_t i = 0; i < N; i++) {
-        if (i % 2) pk[i] = cube + rng(&seed) % side;
-        else do pk[i] = rng(&seed) & KPAR_KEY_MASK; while (pk[i] >= cube && pk[i] < cube + side);
-    }
-    qsort(pk, N, sizeof *pk, cmp_u64);
-    for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
+    cluster_keys(pk, pts, N);
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
     kpar_slices(pk, pts, N, 2, 2, NULL, 0, tk, ti, begin, end, rel, &bound0);
@@ -190,7 +201,7 @@ static void test_a_cluster_in_one_cube_is_one_slice(void)
                end[1] - begin[1]);
     int in[2] = {0, 0};
     for (int k = 0; k < 2; k++)
-        for (size_t i = begin[k]; i < end[k]; i++) in[k] += pk[i] >= cube && pk[i] < cube + side;
+        for (size_t i = begin[k]; i < end[k]; i++) in[k] += in_cluster(pk[i]);
     TEST_CHECK((in[0] == N / 2 && in[1] == 0) || (in[1] == N / 2 && in[0] == 0),
                "the cluster's keys are split %d / %d between the slices", in[0], in[1]);
 }
@@ -241,14 +252,7 @@ static void test_cuts_balance_the_weights_of_fine_and_coarse_keys(void)
     enum { N = 40000 };
     static uint64_t pk[N], tk[N];
     static uint32_t pts[N], ti[N];
-    uint64_t seed = 99;
-    const uint64_t cube = UINT64_C(3) << 57 | UINT64_C(5) << 54, side = UINT64_C(1) << 36;
-    for (size_t i = 0; i < N; i++) {
-        if (i % 2) pk[i] = cube + rng(&seed) % side;
-        else do pk[i] = rng(&seed) & KPAR_KEY_MASK; while (pk[i] >= cube && pk[i] < cube + side);
-    }
-    qsort(pk, N, sizeof *pk, cmp_u64);
-    for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
+    cluster_keys(pk, pts, N);
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
     kpar_slices(pk, pts, N, 2, 2, NULL, UINT64_C(1) << 40, tk, ti, begin, end, rel, &bound0);
@@ -256,7 +260,7 @@ static void test_cuts_balance_the_weights_of_fine_and_coarse_keys(void)
     int wrong = 0;
     for (int k = 0; k < 2; k++)
         for (size_t i = begin[k]; i < end[k]; i++) {
-            wt[k] += pk[i] >= cube && pk[i] < cube + side ? 13 : 10;
+            wt[k] += in_cluster(pk[i]) ? 13 : 10;
             wrong += kpar_colour_of(pk[i], rel, bound0, 2) != k;
         }
     const long tol = N / 2 / 64;
