@@ -1,0 +1,74 @@
+/* kmesh.c -- the kernel mesh's storage: the tet arrays, their growth (with the memory guard's
+ * second check, NOTES.md E17), and the per-thread insertion contexts.  The insertion itself,
+ * which reads and writes these arrays, is in insert.c. */
+#include "kmesh.h"
+
+#include "../base/base.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+gtet_status km_reserve(kmesh *m, size_t slots)
+{
+    if (slots <= m->cap) return GTET_OK;
+    if (slots > KM_MAX_SLOTS) return GTET_ERR_TOO_LARGE;
+    size_t cap = m->cap ? m->cap : 64;
+    while (cap < slots) cap += cap / 2 + 64;
+    if (cap > KM_MAX_SLOTS) cap = KM_MAX_SLOTS;
+    if (m->cap && m->grow_guard) {  /* beyond the first capacity, which the first guard counted */
+        const size_t slot = 8 * sizeof *m->tv;
+        size_t want = cap * slot;
+        gtet_status s = m->grow_guard(m->grow_user, m->nt * slot, m->cap * slot, slots * slot,
+                                      &want);
+        if (s != GTET_OK) return s;
+        if (want / slot < cap) cap = want / slot < slots ? slots : want / slot;
+    }
+    uint32_t *tv = realloc(m->tv, 4 * cap * sizeof *tv);
+    if (!tv) return GTET_ERR_OUT_OF_MEMORY;
+    m->tv = tv;
+    uint32_t *tn = realloc(m->tn, 4 * cap * sizeof *tn);
+    if (!tn) return GTET_ERR_OUT_OF_MEMORY;
+    m->tn = tn;
+    m->cap = cap;
+    return GTET_OK;
+}
+
+gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint, int threads)
+{
+    memset(m, 0, sizeof *m);
+    m->v = v;
+    m->nv = nv;
+    pred_static_init_mt(v, 3, nv, threads, &m->ps, m->box);  /* every point tested is a vertex */
+    m->vloc = malloc(nv ? nv : 1);
+    if (!m->vloc) return GTET_ERR_OUT_OF_MEMORY;
+    memset(m->vloc, 0xff, nv);
+    return km_reserve(m, slots_hint);
+}
+
+void km_free(kmesh *m)
+{
+    free(m->tv);
+    free(m->tn);
+    free(m->vloc);
+    memset(m, 0, sizeof *m);
+}
+
+void kctx_init(kctx *c, kmesh *m, uint64_t seed)
+{
+    memset(c, 0, sizeof *c);
+    c->m = m;
+    c->rng = seed * 0x9e3779b97f4a7c15ULL + 1;
+    c->last_ghost = UINT32_MAX;
+}
+
+void kctx_free(kctx *c)
+{
+    free(c->cav);
+    free(c->bnd);
+    free(c->freelist);
+    free(c->htab);
+    c->cav = NULL;
+    c->bnd = NULL;
+    c->freelist = NULL;
+    c->htab = NULL;
+}
