@@ -5,6 +5,7 @@
  * "unlimited" value, MemAvailable), and gtet_triangulate refusing at once through
  * gtet_options.memory_limit (or running with the guard off). */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -246,6 +247,54 @@ static void triangulate_refuses(void)
     free(xyz);
 }
 
+/* With threads the working mesh gets, at once, the capacity the last BRIO round's parallel
+ * reserve asks for (build.c kbuild_start: 8 slots a point): growing there would move its
+ * arrays off the huge pages they were aligned to (kmesh.c first_arrays; 1M -t 2 peaked at
+ * 412 MB RSS instead of 290).  The stats' kernel_peak_bytes is the capacity's 32 B a slot plus
+ * 29 B a point, so it tells whether the arrays grew: they did at 1.5x when the first capacity
+ * was 7 slots a point. */
+static void capacity_slots(const double *xyz, size_t n, int threads, size_t *slots)
+{
+    *slots = SIZE_MAX;
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = threads;
+    gtet_mesh *mesh = NULL;
+    gtet_status s = gtet_triangulate(xyz, n, &o, &mesh);
+    TEST_REQUIRE(s == GTET_OK, "status %d", (int)s);
+    gtet_stats st;
+    gtet_mesh_stats(mesh, &st);
+    const size_t nv = gtet_mesh_num_vertices(mesh);
+    gtet_mesh_free(&mesh);
+    *slots = (st.peak_bytes - 29 * nv) / 32;
+}
+
+static void parallel_run_does_not_grow(void)
+{
+    const size_t n = 100000;
+    double *xyz = malloc(3 * n * sizeof *xyz);
+    TEST_REQUIRE(xyz != NULL, "allocation");
+    tu_rng rng = {5};
+    const size_t first = 8 * n + 64 + 2 * 2 * 4096;
+    for (int kind = 0; kind < 3; kind++) {
+        for (size_t i = 0; i < n; i++) {
+            double *p = xyz + 3 * i;
+            for (int k = 0; k < 3; k++) p[k] = tu_uniform(&rng);
+            if (kind == 1 && i % 2)  /* half the points in a 1e-3 cube */
+                for (int k = 0; k < 3; k++) p[k] = 0.5 + 1e-3 * p[k];
+            if (kind == 2) {  /* on a sphere: scaled to radius 1 (rounding keeps most off it) */
+                const double r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+                for (int k = 0; k < 3; k++) p[k] = r > 0 ? p[k] / r : 1.0;
+            }
+        }
+        size_t cap;
+        capacity_slots(xyz, n, 2, &cap);
+        TEST_CHECK(cap <= first, "kind %d: the mesh grew to %.2f slots a point (first %.2f)",
+                   kind, (double)cap / n, (double)first / n);
+    }
+    free(xyz);
+}
+
 int main(void)
 {
     TU_RUN(estimate_shape);
@@ -254,5 +303,6 @@ int main(void)
     TU_RUN(growth_is_cut_or_refused);
     TU_RUN(probe_fake_tree);
     TU_RUN(triangulate_refuses);
+    TU_RUN(parallel_run_does_not_grow);
     return tu_finish();
 }

@@ -13,7 +13,7 @@
  *   dedup   (validate.c kval_dedup*): result vertices 24 + input map 4 + duplicate marks 1
  *   sort    (triangulate.c order_points, brio.c sort_brio_keys): result 28, order 4, and the
  *           BRIO's keys 8 + radix scratch 8 + 4 + round 1
- *   insert  (build.c kbuild_start, insert.c km_init, parallel.c kpar_init/kpar_round): input
+ *   insert  (build.c kbuild_start, kmesh.c km_init, parallel.c kpar_init/kpar_round): input
  *           map 4 (from KBUILD_HOLD_ONCE_MIN points on the result's vertices are freed while
  *           the sorted copy exists, NOTES.md E14; below it the result's 28), order 4, the sorted copy sv 24, round ids 4, vloc 1, and the working mesh:
  *           tv + tn = 32 bytes per tet slot, MEM_SLOTS_TOUCHED slots per point touched (the
@@ -31,8 +31,8 @@
  *           at most limit per thread and MEM_DEGEN_PER_POINT per point
  *
  * Address space (RLIMIT_AS, RLIMIT_DATA) counts what is mapped, touched or not: the mesh
- * arrays at their capacity (7 slots per point, build.c's hint, grown by 1.5x in the last
- * parallel round whose reserve of 8 slots per pending point passes it: insert.c km_reserve),
+ * arrays at their capacity (build.c's hint: 7 slots per point, 8 with threads so that the
+ * last parallel round's reserve of 8 slots per pending point fits without growing),
  * every array malloc'ed even when a serial run never writes it, and per extra thread a glibc
  * malloc arena (64 MiB reserved) and a stack.
  *
@@ -61,10 +61,10 @@
 /* slots touched per point at the end of the insertion, in tenths: finite tets, ghosts,
  * deleted slots and the threads' partly used slot blocks (uniform 1M: 6.75) */
 #define MEM_SLOTS_TOUCHED_X10 70
-/* slots allocated per point: build.c kbuild_start's hint (7 per point), times 1.5 when a
- * parallel round's reserve outgrows it (insert.c km_reserve), in tenths */
+/* slots allocated per point: build.c kbuild_start's hint, 7 per point with one thread and 8
+ * with more (the last parallel round's reserve, so that it does not grow), in tenths */
 #define MEM_SLOTS_CAPACITY_X10 70
-#define MEM_SLOTS_GROWN_X10 105
+#define MEM_SLOTS_CAPACITY_PAR_X10 80
 /* finite tets per point in the result (uniform: 6.5-6.7) */
 #define MEM_TETS_PER_POINT_X10 70
 /* per point, in every phase from dedup on: result vertices (3 doubles) + input map */
@@ -146,7 +146,7 @@ void mem_estimate_run(size_t n_in, int threads, const gtet_options *opts, mem_es
     e->resident = add(peak, fixed);
     /* address space: every per-point array of the kernel is mapped whatever the thread count,
      * and the mesh arrays at their capacity */
-    const uint64_t cap10 = T > 1 ? MEM_SLOTS_GROWN_X10 : MEM_SLOTS_CAPACITY_X10;
+    const uint64_t cap10 = T > 1 ? MEM_SLOTS_CAPACITY_PAR_X10 : MEM_SLOTS_CAPACITY_X10;
     uint64_t addr = add(mul10(n, 10 * (MEM_PT_INPUT_MAP + MEM_PT_ORDER + MEM_PT_KERNEL) +
                                      MEM_PT_PARALLEL_MAPPED_X10),
                         mul10(n, cap10 * MEM_SLOT_BYTES));

@@ -8,14 +8,50 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The arrays' first capacity, exactly the slots asked for (the memory guard counted them),
+ * on 2 MiB boundaries with huge pages asked for (NOTES.md E19): the insertion reads them at
+ * random, so with 4 KiB pages nearly every tet it visits is a TLB miss.  Aligned so that the
+ * huge pages start at the arrays' first slot; untouched pages stay unmapped either way.  A
+ * later growth (km_reserve) is a realloc: a move by mremap to an address that is not 2 MiB
+ * aligned splits the huge pages (1M -t 2 peaked at 412 MB RSS instead of 290, NOTES.md Q7),
+ * which is why build.c asks, with threads, for the capacity the parallel rounds' reserve
+ * will want. */
+static gtet_status first_arrays(kmesh *m, size_t slots)
+{
+    const size_t bytes = 4 * slots * sizeof *m->tv;
+    const int huge = bytes >= 2 * KM_HUGE_PAGE;
+    void *tv = NULL, *tn = NULL;
+    if (huge) {  /* C11 aligned_alloc: the size a multiple of the alignment */
+        const size_t whole = (bytes + KM_HUGE_PAGE - 1) / KM_HUGE_PAGE * KM_HUGE_PAGE;
+        tv = aligned_alloc(KM_HUGE_PAGE, whole);
+        tn = tv ? aligned_alloc(KM_HUGE_PAGE, whole) : NULL;
+    } else {
+        tv = malloc(bytes);
+        tn = tv ? malloc(bytes) : NULL;
+    }
+    if (!tv || !tn) {
+        free(tv);
+        return GTET_ERR_OUT_OF_MEMORY;
+    }
+    if (huge) {
+        base_hugepages(tv, bytes);
+        base_hugepages(tn, bytes);
+    }
+    m->tv = tv;
+    m->tn = tn;
+    m->cap = slots;
+    return GTET_OK;
+}
+
 gtet_status km_reserve(kmesh *m, size_t slots)
 {
     if (slots <= m->cap) return GTET_OK;
     if (slots > KM_MAX_SLOTS) return GTET_ERR_TOO_LARGE;
-    size_t cap = m->cap ? m->cap : 64;
+    if (!m->cap) return first_arrays(m, slots);
+    size_t cap = m->cap;
     while (cap < slots) cap += cap / 2 + 64;
     if (cap > KM_MAX_SLOTS) cap = KM_MAX_SLOTS;
-    if (m->cap && m->grow_guard) {  /* beyond the first capacity, which the first guard counted */
+    if (m->grow_guard) {  /* beyond the first capacity, which the first guard counted */
         const size_t slot = 8 * sizeof *m->tv;
         size_t want = cap * slot;
         gtet_status s = m->grow_guard(m->grow_user, m->nt * slot, m->cap * slot, slots * slot,
