@@ -45,6 +45,8 @@ static int sort_by_id(mpt *a, size_t n)
     return 0;
 }
 
+#define NOLID UINT32_MAX
+
 gtet_status mx_step_output(run *R, gtet_mpi_result *res)
 {
     mctx *c = &R->c;
@@ -54,7 +56,9 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     const uint32_t *tv, *nb;
     mx_local_mesh(R, &nt, &tv, &nb);
     size_t m = R->m;
-    uint64_t *gid = mx_malloc(nt * sizeof *gid);
+    /* each local tet's index among the owned ones (NOLID: not owned); 4 B, as the neighbour
+     * loop reads it at random */
+    uint32_t *lid = mx_malloc((nt + 1) * sizeof *lid);
     size_t *scnt = mx_calloc((size_t)P, sizeof *scnt), *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
     size_t *pos = mx_calloc((size_t)P + 1, sizeof *pos);
     vec fr = {NULL, 0, 0, sizeof(frec)};
@@ -66,7 +70,7 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
      * 8 B per vertex stays in cache where the 32 B records do not */
     uint64_t *vid = mx_malloc((R->ns + 1) * sizeof *vid);
     res->tet_offsets = mx_malloc(((size_t)P + 1) * sizeof *res->tet_offsets);
-    if (!gid || !scnt || !rcnt || !pos || !vid || !res->tet_offsets)
+    if (!lid || !scnt || !rcnt || !pos || !vid || !res->tet_offsets)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     size_t own = 0;
     if (s == GTET_OK)
@@ -77,7 +81,8 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
             uint32_t lo = v[0];
             for (int i = 1; i < 4; i++)
                 if (vid[v[i]] < vid[lo]) lo = v[i];
-            gid[t] = lo < m ? own++ : NOID;   /* the smallest vertex is in this tile (D6) */
+            /* owned: the smallest vertex is in this tile (D6) */
+            lid[t] = lo < m ? (uint32_t)own++ : NOLID;
         }
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
     uint64_t mine = own;
@@ -87,14 +92,12 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     res->tet_offset = res->tet_offsets[me];
     res->num_tets_global = res->tet_offsets[P];
     res->num_tets = own;
-    for (size_t t = 0; t < nt; t++)
-        if (gid[t] != NOID) gid[t] += res->tet_offset;
     res->tets = mx_malloc(4 * own * sizeof *res->tets);
     res->neighbors = mx_malloc(4 * own * sizeof *res->neighbors);
     if (!res->tets || !res->neighbors) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     for (size_t t = 0; t < nt && s == GTET_OK; t++) {
-        if (gid[t] == NOID) continue;
-        size_t o = (size_t)(gid[t] - res->tet_offset);
+        if (lid[t] == NOLID) continue;
+        size_t o = lid[t];
         const uint32_t *v = tv + 4 * t;
         for (int f = 0; f < 4; f++) {
             res->tets[4 * o + f] = vid[v[f]];
@@ -102,8 +105,9 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
             int tilev = 0;
             for (int i = 0; i < 4; i++)
                 if (i != f && v[i] < m) tilev = 1;
-            if (u != GTET_NO_TET && gid[u] != NOID) {
-                res->neighbors[4 * o + f] = gid[u];   /* both owned here: both final (D7) */
+            if (u != GTET_NO_TET && lid[u] != NOLID) {
+                /* both owned here: both final (D7) */
+                res->neighbors[4 * o + f] = res->tet_offset + lid[u];
             } else if (u == GTET_NO_TET && tilev) {
                 res->neighbors[4 * o + f] = GTET_MPI_NO_TET;  /* certified hull facet */
             } else {
@@ -119,7 +123,7 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
                     if (i != f) k4[j++] = vid[v[i]];
                 mx_sort4(k4);
                 memcpy(r->key, k4 + 1, sizeof r->key);
-                r->tet = gid[t];
+                r->tet = res->tet_offset + o;
                 *sl = 4 * o + (size_t)f;
                 res->neighbors[4 * o + f] = GTET_MPI_NO_TET;
             }
@@ -212,7 +216,7 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     }
     memset(slotof, 0, (R->ns + 1) * sizeof *slotof);
     for (size_t t = 0; t < nt; t++)
-        if (gid[t] != NOID)
+        if (lid[t] != NOLID)
             for (int i = 0; i < 4; i++) slotof[tv[4 * t + i]] = 1;
     size_t w = 0;
     for (size_t i = 0; i < R->ns; i++)
@@ -236,7 +240,7 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     s = mx_agree(c, s);
 done:
     free(vid);
-    free(gid);
+    free(lid);
     free(scnt);
     free(rcnt);
     free(pos);

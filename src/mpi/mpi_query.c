@@ -25,7 +25,7 @@ void mx_tet_ball(const double *a, const double *b, const double *cc, const doubl
     double lb = ba[0] * ba[0] + ba[1] * ba[1] + ba[2] * ba[2];
     double lc = ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
     double ld = da[0] * da[0] + da[1] * da[1] + da[2] * da[2];
-    double L = sqrt(fmax(lb, fmax(lc, ld)));
+    double L = sqrt(mx_max(lb, mx_max(lc, ld)));
     double x1[3] = {ca[1] * da[2] - ca[2] * da[1], ca[2] * da[0] - ca[0] * da[2],
                     ca[0] * da[1] - ca[1] * da[0]};
     double x2[3] = {da[1] * ba[2] - da[2] * ba[1], da[2] * ba[0] - da[0] * ba[2],
@@ -41,7 +41,7 @@ void mx_tet_ball(const double *a, const double *b, const double *cc, const doubl
     for (int k = 0; k < 3; k++) {
         o[k] = (lb * x1[k] + lc * x2[k] + ld * x3[k]) / (2 * D);
         B->c[k] = a[k] + o[k];
-        amax = fmax(amax, fabs(a[k]));
+        amax = mx_max(amax, fabs(a[k]));
     }
     double R = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
     /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it */
@@ -56,7 +56,7 @@ int mx_ball_meets_box(const ball *B, const double *box)
     if (B->all) return 1;
     double d2 = 0;
     for (int k = 0; k < 3; k++) {
-        double e = fmax(box[k] - B->c[k], fmax(0.0, B->c[k] - box[3 + k]));
+        double e = mx_max(box[k] - B->c[k], mx_max(0.0, B->c[k] - box[3 + k]));
         d2 += e * e;
     }
     return sqrt(d2) <= B->r * (1 + 1e-9);
