@@ -1,14 +1,9 @@
-/* insert.c -- Bowyer-Watson insertion of one point: walk, cavity, new tets, adjacency.
+/* insert.c -- Bowyer-Watson insertion of one point: location (locate.c), cavity, new tets,
+ * adjacency.
  *
  * Why it is correct (the perturbed Delaunay tetrahedrization is unique and every sign used
  * here is exact or perturbed consistently, proofs/perturbation.md):
- *  - walk: from a live tet, cross a facet only when the point is strictly beyond it
- *    (exact orient3d < 0 with the point in that facet's slot).  A finite tet with no such
- *    facet contains the point in its closure, and a point of a closed tet other than its
- *    vertices is strictly inside its circumsphere, so that tet conflicts; a ghost is entered
- *    only through its finite facet with the point strictly beyond, so it conflicts too.  The
- *    facet order is randomised; after a step budget the walk gives up and a linear scan finds a
- *    conflicting tet, so the walk always terminates (proofs/termination.md).
+ *  - location: a tet in conflict with the point (locate.c, km_find_conflict).
  *  - cavity: the tets whose perturbed circumsphere contains the point (ghosts: the hull rule)
  *    form a connected, star-shaped region around it; a breadth-first search from the located
  *    tet collects them and the facets between a deleted and a kept tet (the boundary).
@@ -22,7 +17,7 @@
  *    hash of the vertex pair for very large cavities (adjacency_hash).
  * No allocation in the loop except amortised growth of the per-thread buffers and the arrays.
  */
-#include "kmesh.h"
+#include "conflict.h"
 
 #include "../base/base.h"
 
@@ -41,12 +36,6 @@ static int grow(void **buf, size_t *cap, size_t need, size_t elem)
     return 0;
 }
 
-static inline uint32_t rng_next(kctx *c)
-{
-    c->rng = c->rng * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (uint32_t)(c->rng >> 33);
-}
-
 /* The cavity search will read the records of t's neighbours: start loading them now, while
  * the tets queued before t are processed (a hint only).  With it the two arrays are as fast as one
  * 32-byte record per tet holding vertices and neighbours together (one line per tet instead of
@@ -55,125 +44,6 @@ static inline void prefetch_neighbours(const kmesh *m, uint32_t t)
 {
     const uint32_t *n = m->tn + 4 * (size_t)t;
     for (int f = 0; f < 4; f++) __builtin_prefetch(m->tv + 4 * (size_t)(n[f] >> 2));
-}
-
-/* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)? */
-static inline int conflicts(kctx *c, uint32_t t, const double *p)
-{
-    const kmesh *m = c->m;
-    const uint32_t *v = m->tv + 4 * (size_t)t;
-    if (v[3] == KM_GHOST)
-        return pred_ghost_conflict_st_log(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
-                                          &m->ps, &c->cnt, c->sos_log) > 0;
-    const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
-    const double *d = km_pt(m, v[3]);
-    /* the filter inline (most calls stop here); the full chain counts its own call */
-    double minors[4];
-    int s = pred_insphere_filter(a, b, cc, d, p, m->ps.is_seps, minors);
-    if (s != 0) {
-        c->cnt.insphere_calls++;
-        return s > 0;
-    }
-    return pred_insphere_sos_rest_log(a, b, cc, d, p, &m->ps, minors, &c->cnt, c->sos_log) > 0;
-}
-
-/* orient3d of tet t with its vertex f replaced by p (t finite). */
-static inline int orient_replaced(kctx *c, uint32_t t, int f, const double *p)
-{
-    const kmesh *m = c->m;
-    const uint32_t *v = m->tv + 4 * (size_t)t;
-    const double *q[4];
-    for (int i = 0; i < 4; i++) q[i] = km_pt(m, v[i]);
-    q[f] = p;
-    c->cnt.orient_calls++;
-    int s = pred_orient3d_filter(q[0], q[1], q[2], q[3], m->ps.o3_seps);
-    return s ? s : pred_orient3d_rest(q[0], q[1], q[2], q[3], &m->ps, &c->cnt);
-}
-
-/* Linear scan for a live tet in conflict with p: the walk's guaranteed fallback. */
-static gtet_status scan_for_conflict(kctx *c, const double *p, uint32_t *found)
-{
-    const kmesh *m = c->m;
-    c->walk_fallbacks++;
-    for (size_t t = 0; t < m->nt; t++) {
-        if (km_dead(m, t)) continue;
-        if (conflicts(c, (uint32_t)t, p)) {
-            *found = (uint32_t)t;
-            return GTET_OK;
-        }
-    }
-    return GTET_ERR_INTERNAL;  /* a point outside every circumsphere and beyond no hull facet */
-}
-
-/* Visibility walk from c->last to a tet in conflict with p.  In a parallel pass it never
- * enters a tet that is not this thread's (km_owned; *found = UINT32_MAX: defer), and it gives
- * up instead of scanning when the step budget runs out (a scan would read other threads'
- * tets); so does it when may_scan is 0 (km_locate). */
-static gtet_status walk(kctx *c, const double *p, uint32_t *found, int may_scan)
-{
-    const kmesh *m = c->m;
-    uint32_t t = c->last;
-    uint32_t entry = UINT32_MAX;   /* handle 4t+f of the facet we came in through */
-    if (km_is_ghost(m, t)) {
-        /* start from the ghost's finite neighbour and test all four of its facets: p may be
-         * beyond the hull facet too (then the walk steps back into this ghost, entered
-         * through its finite facet with p strictly beyond, which conflicts).  Skipping that
-         * facet as if it had been crossed located a tet p is not in when p is outside the
-         * hull (sphere points in a parallel pass: "internal error"; serially a linear scan). */
-        t = m->tn[4 * (size_t)t + 3] >> 2;
-    }
-    /* m->nt is bumped by other threads' atomic captures (ensure_room) during a parallel
-     * pass: read it atomically too (a plain read would be a data race; ThreadSanitizer). */
-    size_t nt_now;
-#pragma omp atomic read
-    nt_now = m->nt;
-    uint64_t budget = 64 + 4 * (uint64_t)nt_now;
-    for (uint64_t step = 0; step < budget; step++) {
-        if (km_is_ghost(m, t)) {  /* entered through its finite facet, strictly beyond */
-            *found = t;
-            c->walk_steps += step;
-            return GTET_OK;
-        }
-        uint32_t r = rng_next(c);
-        int moved = 0;
-        for (int k = 0; k < 4; k++) {
-            int f = (int)((r + (uint32_t)k) & 3);
-            if (4 * t + (uint32_t)f == entry) continue;
-            if (orient_replaced(c, t, f, p) < 0) {
-                uint32_t h = m->tn[4 * (size_t)t + (size_t)f];
-                if (c->colour && !km_owned(c, h >> 2)) {
-                    *found = UINT32_MAX;
-                    c->walk_steps += step;
-                    return GTET_OK;
-                }
-                entry = h;
-                t = h >> 2;
-                moved = 1;
-                break;
-            }
-        }
-        if (!moved) {
-            *found = t;
-            c->walk_steps += step;
-            return GTET_OK;
-        }
-    }
-    c->walk_steps += budget;
-    if (c->colour || !may_scan) {
-        *found = UINT32_MAX;
-        return GTET_OK;
-    }
-    return scan_for_conflict(c, p, found);
-}
-
-uint32_t km_locate(kctx *c, const double *p)
-{
-    const uint8_t *colour = c->colour;
-    c->colour = NULL;  /* every tet may be crossed: nothing is written */
-    uint32_t t = UINT32_MAX;
-    if (walk(c, p, &t, 0) != GTET_OK) t = UINT32_MAX;
-    c->colour = colour;
-    return t;
 }
 
 /* Move the rest of this thread's block of fresh slots to its free list, marked deleted so
@@ -403,54 +273,6 @@ static void rollback(kctx *c, size_t ncav)
  * hot loop was written); a parallel pass defers through *deferred, with nothing written. */
 #define KM_STEP static inline __attribute__((always_inline))
 
-/* A point outside the hull conflicts with the ghosts of the hull facets it sees (the hull
- * rule), and consecutive points of a surface sample (sphere, paraboloid: every point on the
- * hull) are close: the facets the next point sees are usually at or next to the previous
- * point's.  So when the last insertion was outside the hull, its ghosts and their neighbours
- * over the hull (a ghost's facets 0..2 face ghosts) are tested first, breadth-first, at most
- * KM_HULL_TRIES of them; a hit is a conflicting tet like the walk's (any conflicting tet
- * starts the same cavity: the perturbed mesh is unique), a miss falls back to the walk, which
- * would cross the slivers under the surface (70 steps a point on the 1M paraboloid).  Serial
- * only: a parallel pass must not test tets it does not own.  NOTES.md E32. */
-#define KM_HULL_TRIES 8
-static __attribute__((noinline)) uint32_t hull_search(kctx *c, const double *p)
-{
-    const kmesh *m = c->m;
-    const uint32_t g0 = c->last_ghost;
-    if (g0 >= m->nt || km_dead(m, g0) || !km_is_ghost(m, g0)) return UINT32_MAX;
-    uint32_t seen[KM_HULL_TRIES];
-    unsigned n = 0;
-    seen[n++] = g0;
-    for (unsigned i = 0; i < n; i++) {
-        const uint32_t g = seen[i];
-        if (conflicts(c, g, p)) return g;
-        for (int f = 0; f < 3 && n < KM_HULL_TRIES; f++) {
-            const uint32_t h = m->tn[4 * (size_t)g + (size_t)f] >> 2;
-            unsigned q = 0;
-            while (q < n && seen[q] != h) q++;
-            if (q == n) seen[n++] = h;
-        }
-    }
-    return UINT32_MAX;
-}
-
-/* locate: a tet in conflict with p (*t0), or *t0 = UINT32_MAX in a parallel pass when the
- * walk met a tet not this thread's or ran out of steps. */
-KM_STEP gtet_status locate(kctx *c, const double *p, uint32_t *t0)
-{
-    if (__builtin_expect(c->last_ghost != UINT32_MAX, 0) && !c->colour) {
-        *t0 = hull_search(c, p);
-        c->last_ghost = UINT32_MAX;
-        if (*t0 != UINT32_MAX) return GTET_OK;
-    }
-    gtet_status s = walk(c, p, t0, 1);
-    if (s != GTET_OK || *t0 == UINT32_MAX) return s;
-    if (conflicts(c, *t0, p)) return GTET_OK;
-    /* the located tet must conflict (see the top of this file) */
-    if (c->colour) return GTET_ERR_INTERNAL;
-    return scan_for_conflict(c, p, t0);
-}
-
 /* dig: the cavity, a breadth-first search over the tets in conflict with p from t0: the
  * deleted tets in c->cav[0..*ncav) (marked dead), the boundary facets in c->bnd[0..*nb) as
  * the new tets they become.  In a parallel pass every tet is checked to be this thread's
@@ -483,7 +305,7 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
             uint32_t h = m->tn[4 * (size_t)t + f];
             uint32_t u = h >> 2;
             if (km_dead(m, u)) continue;
-            if (conflicts(c, u, p)) {
+            if (km_conflicts(c, u, p)) {
                 if (c->colour) {
                     const int own = km_owned(c, u);
                     if (!own) {
@@ -618,7 +440,7 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     const double *p = km_pt(c->m, pid);
     *deferred = 0;
     uint32_t t0;
-    gtet_status s = locate(c, p, &t0);
+    gtet_status s = km_find_conflict(c, p, &t0);
     if (s != GTET_OK) return s;
     if (t0 == UINT32_MAX) {
         c->conflicts++;

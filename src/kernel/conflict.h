@@ -1,0 +1,56 @@
+/* conflict.h -- the conflict test shared by the point location (locate.c) and the cavity
+ * search (insert.c), and the location step km_insert starts with.
+ *
+ * km_conflicts is static inline on purpose: the cavity search calls it ~50 times a point and
+ * must keep it inlined with the insphere filter (NOTES.md E16: +6.5% when it was not). */
+#ifndef GTET_KERNEL_CONFLICT_H
+#define GTET_KERNEL_CONFLICT_H
+#include "kmesh.h"
+
+/* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)? */
+static inline int km_conflicts(kctx *c, uint32_t t, const double *p)
+{
+    const kmesh *m = c->m;
+    const uint32_t *v = m->tv + 4 * (size_t)t;
+    if (v[3] == KM_GHOST)
+        return pred_ghost_conflict_st_log(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
+                                          &m->ps, &c->cnt, c->sos_log) > 0;
+    const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
+    const double *d = km_pt(m, v[3]);
+    /* the filter inline (most calls stop here); the full chain counts its own call */
+    double minors[4];
+    int s = pred_insphere_filter(a, b, cc, d, p, m->ps.is_seps, minors);
+    if (s != 0) {
+        c->cnt.insphere_calls++;
+        return s > 0;
+    }
+    return pred_insphere_sos_rest_log(a, b, cc, d, p, &m->ps, minors, &c->cnt, c->sos_log) > 0;
+}
+
+/* locate.c: a ghost in conflict with p found by a walk over the hull from c->last_ghost, or
+ * UINT32_MAX (serial only); the visibility walk from c->last (its tet in *found, or UINT32_MAX
+ * in a parallel pass when it met a tet not this thread's or, there or with may_scan 0, ran
+ * out of steps); a linear scan for a conflicting tet (the walk's fallback). */
+uint32_t km_hull_search(kctx *c, const double *p);
+gtet_status km_walk(kctx *c, const double *p, uint32_t *found, int may_scan);
+gtet_status km_scan_for_conflict(kctx *c, const double *p, uint32_t *found);
+
+/* A tet in conflict with p (*t0): over the hull first when the last insertion was outside it
+ * (serial only), else by the visibility walk from c->last; *t0 = UINT32_MAX in a parallel pass
+ * when the walk met a tet not this thread's or ran out of steps (defer).  Inlined into
+ * km_insert (one call a point less). */
+static inline gtet_status km_find_conflict(kctx *c, const double *p, uint32_t *t0)
+{
+    if (__builtin_expect(c->last_ghost != UINT32_MAX, 0) && !c->colour) {
+        *t0 = km_hull_search(c, p);
+        c->last_ghost = UINT32_MAX;
+        if (*t0 != UINT32_MAX) return GTET_OK;
+    }
+    gtet_status s = km_walk(c, p, t0, 1);
+    if (s != GTET_OK || *t0 == UINT32_MAX) return s;
+    if (km_conflicts(c, *t0, p)) return GTET_OK;
+    /* the located tet must conflict (locate.c) */
+    if (c->colour) return GTET_ERR_INTERNAL;
+    return km_scan_for_conflict(c, p, t0);
+}
+#endif
