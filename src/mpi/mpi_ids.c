@@ -181,8 +181,13 @@ gtet_status mx_step_dedup(run *R)
     if (!ord || !rep || first_occurrences(rb, m, ord) != 0)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
-    for (size_t k = 0; k < m; k++) rep[k] = rb[ord[k]].id;
-    {
+    /* no duplicate anywhere (the common case): every point is a first occurrence, and the
+     * three exchanges that hand out the firsts' ids (24 B a point) are skipped */
+    int dup = 0, gdup = 0;
+    for (size_t k = 0; k < m; k++) dup |= ord[k] != k;
+    MPI_Allreduce(&dup, &gdup, 1, MPI_INT, MPI_MAX, c->comm);
+    if (gdup) {
+        for (size_t k = 0; k < m; k++) rep[k] = rb[ord[k]].id;
         void *r;
         size_t tot;
         if ((s = mx_exchange(c, rep, rcnt, sizeof(uint64_t), &r, scnt, &tot, 0)) != GTET_OK)
@@ -190,8 +195,8 @@ gtet_status mx_step_dedup(run *R)
         back = r;
     }
     /* first occurrences here, numbered after those of the ranks whose ranges come first */
-    uint64_t nfirst = 0;
-    for (size_t k = 0; k < n; k++) nfirst += back[k] == sb[k].id;
+    uint64_t nfirst = gdup ? 0 : (uint64_t)n;
+    for (size_t k = 0; k < n && gdup; k++) nfirst += back[k] == sb[k].id;
     uint64_t *cnts = mx_malloc((size_t)P * sizeof *cnts);
     R->fp = mx_malloc((size_t)nfirst * sizeof *R->fp);
     if (!cnts || !R->fp) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
@@ -210,7 +215,7 @@ gtet_status mx_step_dedup(run *R)
     /* vertex ids in input order: imap first holds "is first" marks */
     for (size_t i = 0; i < n; i++) R->imap[i] = NOID;
     for (size_t k = 0; k < n; k++)
-        if (back[k] == sb[k].id) R->imap[sidx[k]] = 0;
+        if (!gdup || back[k] == sb[k].id) R->imap[sidx[k]] = 0;
     R->nf = 0;
     for (size_t i = 0; i < n; i++)
         if (R->imap[i] == 0) {
@@ -219,6 +224,7 @@ gtet_status mx_step_dedup(run *R)
             R->fp[R->nf].id = R->imap[i];
             R->nf++;
         }
+    if (!gdup) goto done;   /* every point is its own first */
     /* second pass: the owners give every record the id of its group's first */
     for (size_t k = 0; k < n; k++) rep[k] = R->imap[sidx[k]];
     free(back);
