@@ -140,7 +140,9 @@ typedef struct run {
     grid gr;
     gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
     uint32_t *ptv, *ptn;        /* ... or, once patched (mx_patch), DT(S) as 4 vertex ids and */
-    size_t pnt;                 /* 4 neighbour tets (GTET_NO_TET on the hull) per tet */
+    size_t pnt;                 /* 4 neighbour tets (GTET_NO_TET on the hull) per tet,
+                                   allocated at twice that size: the output writes its uint64
+                                   arrays over them (mpi_output.c) */
     size_t qfrom;               /* the local tets this round made start here: the earlier
                                    ones were decided (queried or certified) before (D3) */
     /* keys of the previous round's queried tets / hull facets, sorted */

@@ -562,7 +562,10 @@ static int merge(patch *X, const fmap *B, const uint32_t *fid, size_t nnew)
     if (!newt) return -1;
     for (size_t t = 0; t < X->nt; t++) newt[t] = (X->cf[t] & 16) ? NONE : (uint32_t)nk++;
     size_t nt2 = nk + nnew;
-    uint32_t *tv = mx_malloc((4 * nt2 + 1) * sizeof *tv), *tn = mx_malloc((4 * nt2 + 1) * sizeof *tn);
+    /* twice the size: the output writes its uint64 result over them (mpi_output.c: st64);
+     * the untouched halves cost no memory until then */
+    uint32_t *tv = mx_malloc((8 * nt2 + 2) * sizeof *tv);
+    uint32_t *tn = mx_malloc((8 * nt2 + 2) * sizeof *tn);
     if (!tv || !tn) {
         free(newt);
         free(tv);
