@@ -25,10 +25,11 @@
  * Adaptive, as in paper §4.2, with alpha = inserted / pending points of the pass, n threads:
  *   alpha <= 1/n       -> the rest of the round is inserted sequentially,
  *   1/n < alpha <= 1/6 -> half the threads (reduction),
- *   otherwise          -> same threads, new partitions: the round's first retry cuts the
- *                         same curve in the middles of the first pass's slices' deferred
- *                         points (no re-keying: NOTES.md E6, E20), later ones use an
- *                         enlarged, shifted box.
+ *   otherwise          -> same threads, new partitions: slabs between median planes
+ *                         across the pending points' widest axis (NOTES.md E40; where slabs
+ *                         are refused, the round's first retry cuts the same curve in the
+ *                         middles of the first pass's slices' deferred points, E6, E20,
+ *                         later ones use an enlarged, shifted box).
  * Termination (proofs/termination.md): a parallel pass that goes on inserts more than a 1/n
  * fraction of the pending points, so their number shrinks geometrically, and the sequential
  * insertion (no colours) always succeeds.
@@ -65,11 +66,12 @@
 #define GIVE_UP_PROBE 16
 #define GIVE_UP_MIN 1024
 #define GIVE_UP_RATE 8
-/* A pass after the first retry re-keys every vertex in the mesh on its new box, and its points
- * are the hard ones (near two earlier partitions' boundaries, long walks): with fewer pending
- * points than nmesh / SERIAL_TAIL it is one serial pass instead (NOTES.md E4).  The first retry
- * (same keys, cuts rotated) is cheap and stays parallel. */
-#define SERIAL_TAIL 32
+/* A pass after the first retry colours every vertex in the mesh again (a slab by one coordinate,
+ * NOTES.md E40; a re-keying on a new box when slabs are refused), and its points are the hard
+ * ones (big cavities, long walks): with fewer pending points than nmesh / SERIAL_TAIL it is one
+ * serial pass instead (NOTES.md E4: 32 when every such pass re-keyed; 128 with slabs, whose
+ * second and third retries on the Bunny insert 2/3 and 4/5 of their points in parallel). */
+#define SERIAL_TAIL 128
 
 static uint64_t mix64(uint64_t z)
 {
@@ -229,15 +231,39 @@ static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, uint32_t c
     c->last = last;
 }
 
-/* The keys, slices and colours of a pass (O1): thread k's slice is pts[begin[k] .. end[k]),
- * and the vertices 0..nmesh-1 get the colours of the key ranges.  The keys: kpar.keys (the
- * BRIO's, or the tight box's computed once) in a round's first pass and its first retry (cut
- * between the first pass's cuts, P->cuts: kpar_slices); later passes re-key the vertices in the
+/* A retry's slices and colours (O1): slabs between median planes across the pending points'
+ * widest axis (slabs.c, NOTES.md E40); 0 when the coordinates do not allow balanced slabs (or
+ * the scratch, np doubles, cannot be had: the caller then cuts on keys). */
+static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, size_t begin[],
+                      size_t end[])
+{
+    const kmesh *m = P->m;
+    kpar_slab_cuts s;
+    double *scratch = malloc(np * sizeof *scratch);
+    const int ok = scratch && kpar_slabs(m->v, pts, np, nth, scratch, P->ti, begin, end, &s);
+    free(scratch);
+    if (!ok) return 0;
+    uint8_t *col = P->colour;
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (size_t v = 0; v < nmesh; v++) col[v] = (uint8_t)kpar_slab_of(m->v[3 * v + s.axis], &s);
+    return 1;
+}
+
+/* The slices and colours of a pass (O1): thread k's slice is pts[begin[k] .. end[k]), and the
+ * vertices 0..nmesh-1 get the colours of its regions.  A round's first pass cuts keys:
+ * kpar.keys (the BRIO's, or the tight box's computed once; kpar_slices).  Its retries cut
+ * slabs (pass_slabs, NOTES.md E40); where slabs are refused, the first retry cuts the same
+ * keys between the first pass's cuts (P->cuts, E20) and later ones re-key the vertices in the
  * mesh on an enlarged, shifted box (paper section 4.2). */
 static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
                            unsigned pass, size_t begin[], size_t end[])
 {
     kmesh *m = P->m;
+    if (pass > 0 && pass_slabs(P, pts, np, nmesh, nth, begin, end)) {
+        for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */
+            for (size_t i = begin[k]; i < end[k]; i++) GTET_DEBUG_ASSERT(P->colour[pts[i]] == k);
+        return;
+    }
     const uint64_t *keys;
     int sh = 0;  /* a vertex's 63-bit key: (keys[v] << sh) & KPAR_KEY_MASK (kpar.keys) */
     double box[6];  /* the keys' box */

@@ -4,6 +4,7 @@
 #define GTET_PARALLEL_H
 
 #include "kmesh.h"
+#include "slabs.h"
 #include "slices.h"
 
 typedef struct kpar {

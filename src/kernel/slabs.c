@@ -1,0 +1,121 @@
+/* slabs.c -- the partition of a round's retry passes (parallel.c) into slabs between planes
+ * across one axis, at quantiles of the pending points (NOTES.md E40).
+ *
+ * Why planes: after a round's first pass (Moore-curve slices, slices.c) the deferred points
+ * are those whose cavities met a tet with vertices of two colours.  On surface samples of
+ * scanned meshes the tets spanning the surface's concavities are long (1/16-1/4 of the box
+ * diagonal: NOTES.md E21 / colour2) and cross the first pass's colour boundary -- a union of
+ * Moore cells with a large, folded area -- everywhere, so the deferred points spread over the
+ * whole slice and a retry with other Moore cuts inserted none of them (the round then went
+ * serial: 114k of 833k points on the Bunny).  A median plane has the least boundary a cut at
+ * equal counts can have on a compact set, and the widest spread puts it across the deferred
+ * points' crowd: a retry on it inserts 70-85% of them in parallel.
+ *
+ * Obligation O1 (proofs/parallel.md): the cuts and every vertex's colour are computed before the
+ * region from the coordinates alone (kpar_slab_of), and slice k is exactly the pending points of
+ * slab k.  Deterministic: the quantiles are the same whatever the thread count or run.
+ */
+#include "slabs.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static void swap_d(double *a, size_t i, size_t j)
+{
+    const double t = a[i];
+    a[i] = a[j];
+    a[j] = t;
+}
+
+static int cmp_double(const void *p, const void *q)
+{
+    const double x = *(const double *)p, y = *(const double *)q;
+    return (x > y) - (x < y);
+}
+
+/* Quickselect with a median-of-three pivot and Hoare's partition; after 2 * 64 rounds
+ * (an adversarial order) the rest of the range is sorted instead, so the worst case is
+ * O(n log n). */
+double kpar_select(double *a, size_t n, size_t r)
+{
+    size_t lo = 0, hi = n - 1;
+    for (int budget = 128; hi > lo; budget--) {
+        if (budget == 0) {
+            qsort(a + lo, hi - lo + 1, sizeof *a, cmp_double);
+            return a[r];
+        }
+        const size_t mid = lo + (hi - lo) / 2;
+        if (a[mid] < a[lo]) swap_d(a, mid, lo);
+        if (a[hi] < a[lo]) swap_d(a, hi, lo);
+        if (a[hi] < a[mid]) swap_d(a, hi, mid);
+        const double p = a[mid];  /* a[lo] <= p <= a[hi]: both scans stop inside the range */
+        size_t i = lo, j = hi;
+        for (;;) {
+            while (a[i] < p) i++;
+            while (a[j] > p) j--;
+            if (i >= j) break;
+            swap_d(a, i, j);
+            i++;
+            j--;
+        }
+        /* now a[lo..j] <= p <= a[j+1..hi] (j < hi: both parts are non-empty) */
+        if (i == j) {  /* a[i] == p, the parts are a[lo..i-1] and a[i+1..hi] */
+            if (r == i) return p;
+            if (r < i) hi = i - 1;
+            else lo = i + 1;
+        } else if (r <= j) {
+            hi = j;
+        } else {
+            lo = j + 1;
+        }
+    }
+    return a[r];
+}
+
+/* The distance between the 1/4 and 3/4 quantiles of the coordinates on `axis` of every
+ * stride-th point (an estimate is all the choice of the axis needs). */
+#define SPREAD_SAMPLE 4096
+static double middle_spread(const double *v, const uint32_t *pts, size_t np, int axis, double *a)
+{
+    const size_t stride = np / SPREAD_SAMPLE + 1;
+    size_t n = 0;
+    for (size_t i = 0; i < np; i += stride) a[n++] = v[3 * (size_t)pts[i] + axis];
+    const size_t q1 = n / 4, q3 = 3 * n / 4;
+    const double x1 = kpar_select(a, n, q1);
+    const double x3 = kpar_select(a + q1, n - q1, q3 - q1);
+    return x3 - x1;
+}
+
+int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
+               uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out)
+{
+    if (nth < 2 || nth > 256 || np < 4 * (size_t)nth) return 0;
+    int axis = 0;
+    double widest = -1.0;
+    for (int d = 0; d < 3; d++) {
+        const double w = middle_spread(v, pts, np, d, scratch);
+        if (w > widest) widest = w, axis = d;
+    }
+    kpar_slab_cuts s = {.axis = axis, .nth = nth};
+    for (size_t i = 0; i < np; i++) scratch[i] = v[3 * (size_t)pts[i] + axis];
+    size_t done = 0;  /* scratch[0..done) lies below every later rank */
+    for (int k = 1; k < nth; k++) {
+        const size_t r = np * (size_t)k / (size_t)nth;
+        s.cut[k] = kpar_select(scratch + done, np - done, r - done);
+        done = r;
+    }
+    size_t cnt[256] = {0};
+    for (size_t i = 0; i < np; i++) cnt[kpar_slab_of(v[3 * (size_t)pts[i] + axis], &s)]++;
+    for (int k = 0; k < nth; k++)
+        if (cnt[k] < np / (2 * (size_t)nth)) return 0;
+    size_t at = 0;
+    for (int k = 0; k < nth; k++) {
+        begin[k] = at;
+        at += cnt[k];
+        end[k] = begin[k];  /* the fill position; ends at begin[k] + cnt[k] */
+    }
+    for (size_t i = 0; i < np; i++) tmp[end[kpar_slab_of(v[3 * (size_t)pts[i] + axis], &s)]++] = pts[i];
+    memcpy(pts, tmp, np * sizeof *pts);
+    *out = s;
+    return 1;
+}
