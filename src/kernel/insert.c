@@ -278,6 +278,7 @@ static void rollback(kctx *c, size_t ncav)
  * the new tets they become.  In a parallel pass every tet is checked to be this thread's
  * before it is marked (O2); a tet that is not rolls the marks back and defers.  *foreign: a
  * cavity tet has a vertex of another colour (own_min 3). */
+#define KM_KEPT_CACHE 64
 KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, size_t *ncav_out,
                         size_t *nb_out, int *foreign_out, int *deferred)
 {
@@ -299,13 +300,18 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
     c->cav[ncav++] = t0;
     km_kill(m, t0);
     prefetch_neighbours(m, t0);
+    /* tets of this cavity's boundary already tested (kept), direct-mapped on the slot's low
+     * bits: a kept tet next to two deleted ones is not tested twice (NOTES.md Q6, E61) */
+    uint32_t kept[KM_KEPT_CACHE];
+    memset(kept, 0xff, sizeof kept);
     for (size_t i = 0; i < ncav; i++) {
         uint32_t t = c->cav[i];
         for (uint32_t f = 0; f < 4; f++) {
             uint32_t h = m->tn[4 * (size_t)t + f];
             uint32_t u = h >> 2;
             if (km_dead(m, u)) continue;
-            if (km_conflicts(c, u, p)) {
+            uint32_t *k = &kept[u & (KM_KEPT_CACHE - 1)];
+            if (*k != u && km_conflicts(c, u, p)) {
                 if (c->colour) {
                     const int own = km_owned(c, u);
                     if (!own) {
@@ -324,6 +330,7 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
                 prefetch_neighbours(m, u);
                 c->cav[ncav++] = u;
             } else {
+                *k = u;
                 if (grow((void **)&c->bnd, &c->bnd_cap, nb + 1, sizeof *c->bnd)) {
                     rollback(c, ncav);
                     return GTET_ERR_OUT_OF_MEMORY;
