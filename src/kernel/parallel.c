@@ -232,17 +232,17 @@ static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, uint32_t c
 }
 
 /* A retry's slices and colours (O1): slabs between median planes across the pending points'
- * widest axis (slabs.c, NOTES.md E40); 0 when the coordinates do not allow balanced slabs (or
- * the scratch, np doubles, cannot be had: the caller then cuts on keys). */
+ * widest axis (slabs.c, NOTES.md E40); 0 when the coordinates do not allow balanced slabs (the
+ * caller then cuts on keys).  The np doubles of scratch are the radix scratch P->tk (malloc'ed
+ * for the round's pending points, 8 bytes each, >= np; unused by a pass that cuts slabs): no
+ * allocation in the pass, and the memory guard's count of the round's arrays holds. */
 static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, size_t begin[],
                       size_t end[])
 {
     const kmesh *m = P->m;
     kpar_slab_cuts s;
-    double *scratch = malloc(np * sizeof *scratch);
-    const int ok = scratch && kpar_slabs(m->v, pts, np, nth, scratch, P->ti, begin, end, &s);
-    free(scratch);
-    if (!ok) return 0;
+    double *scratch = (double *)(void *)P->tk;  /* allocated storage: its type is the last store's */
+    if (!kpar_slabs(m->v, pts, np, nth, scratch, P->ti, begin, end, &s)) return 0;
     uint8_t *col = P->colour;
 #pragma omp parallel for num_threads(nth) schedule(static)
     for (size_t v = 0; v < nmesh; v++) col[v] = (uint8_t)kpar_slab_of(m->v[3 * v + s.axis], &s);
