@@ -37,4 +37,9 @@ gtet_status base_fail(gtet_error *err, gtet_status s, const char *what);
  * hint for the big randomly-read arrays; no effect on anything but speed, none off Linux. */
 void base_hugepages(void *p, size_t bytes);
 
+/* malloc for a big array (free/realloc as usual): from 4 MiB on it starts on a 2 MiB boundary
+ * and has huge pages asked for (base_hugepages), so that they begin at its first byte; below,
+ * plain malloc.  NULL when out of memory (bytes 0: a valid pointer). */
+void *base_alloc_huge(size_t bytes);
+
 #endif

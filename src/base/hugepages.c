@@ -12,6 +12,7 @@
 #include "base.h"
 
 #include <stdint.h>
+#include <stdlib.h>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -30,4 +31,13 @@ void base_hugepages(void *p, size_t bytes)
     (void)p;
     (void)bytes;
 #endif
+}
+
+void *base_alloc_huge(size_t bytes)
+{
+    if (bytes < 2 * BASE_HUGE_PAGE) return malloc(bytes ? bytes : 1);
+    const size_t whole = (bytes + BASE_HUGE_PAGE - 1) & ~(size_t)(BASE_HUGE_PAGE - 1);
+    void *p = aligned_alloc(BASE_HUGE_PAGE, whole);  /* C11: size a multiple of the alignment */
+    base_hugepages(p, bytes);
+    return p;
 }

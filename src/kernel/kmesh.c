@@ -19,23 +19,11 @@
 static gtet_status first_arrays(kmesh *m, size_t slots)
 {
     const size_t bytes = 4 * slots * sizeof *m->tv;
-    const int huge = bytes >= 2 * KM_HUGE_PAGE;
-    void *tv = NULL, *tn = NULL;
-    if (huge) {  /* C11 aligned_alloc: the size a multiple of the alignment */
-        const size_t whole = (bytes + KM_HUGE_PAGE - 1) / KM_HUGE_PAGE * KM_HUGE_PAGE;
-        tv = aligned_alloc(KM_HUGE_PAGE, whole);
-        tn = tv ? aligned_alloc(KM_HUGE_PAGE, whole) : NULL;
-    } else {
-        tv = malloc(bytes);
-        tn = tv ? malloc(bytes) : NULL;
-    }
+    uint32_t *tv = base_alloc_huge(bytes);
+    uint32_t *tn = tv ? base_alloc_huge(bytes) : NULL;
     if (!tv || !tn) {
         free(tv);
         return GTET_ERR_OUT_OF_MEMORY;
-    }
-    if (huge) {
-        base_hugepages(tv, bytes);
-        base_hugepages(tn, bytes);
     }
     m->tv = tv;
     m->tn = tn;

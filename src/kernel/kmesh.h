@@ -30,7 +30,6 @@
 #define KM_MAX_SLOTS ((UINT32_C(1) << 30) - 1) /* so 4u+j < UINT32_MAX: that value is never a handle */
 #define KM_LOC_MAX 64   /* cavity-local vertex ids for the fast adjacency table */
 #define KM_SLOT_BLOCK 4096 /* fresh slots a thread claims at once in a parallel pass */
-#define KM_HUGE_PAGE ((size_t)2 << 20) /* the tet arrays are aligned to it (kmesh.c) */
 
 typedef struct kmesh {
     const double *v;    /* 3 doubles per vertex */

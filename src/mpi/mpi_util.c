@@ -35,17 +35,11 @@ static int injected(void)
  * the result) once each, afresh, and on this VM a 4 KiB page fault cost ~6 us -- 23 % of a
  * rank's samples at 1M points, np 2 (NOTES E50) */
 #define MX_HUGE_MIN ((size_t)8 << 20)
-#define MX_HUGE_ALIGN ((size_t)2 << 20)
 
 void *mx_malloc(size_t bytes)
 {
     if (injected()) return NULL;
-    if (bytes >= MX_HUGE_MIN) {
-        void *p = NULL;
-        if (posix_memalign(&p, MX_HUGE_ALIGN, bytes) != 0) return NULL;
-        base_hugepages(p, bytes);
-        return p;
-    }
+    if (bytes >= MX_HUGE_MIN) return base_alloc_huge(bytes);
     return malloc(bytes ? bytes : 1);
 }
 
