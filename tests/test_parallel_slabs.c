@@ -10,10 +10,17 @@
  * one whose 1/4 .. 3/4 quantiles lie farthest apart.  When no balanced slabs exist (equal
  * coordinates) it returns 0 and leaves pts as it was.  kpar_select returns the element of the
  * asked rank of the ascending order, for any input order and any duplicates.
+ *
+ * A round's first pass (NOTES.md E70): kpar_slab_cuts_on cuts the asked axis even when another
+ * is wider; kpar_crossing counts, of every stride-th slot, the live finite tets not of one
+ * colour under the given colours and under each axis's slabs (dead and ghost slots skipped),
+ * as a brute-force count does; kpar_first_axis takes the axis of the fewest crossings only
+ * when it is below 3/4 of the colours' count.
  */
 #include <stdlib.h>
 #include <string.h>
 
+#include "kernel/kmesh.h"
 #include "kernel/slabs.h"
 #include "testutil.h"
 
@@ -171,10 +178,110 @@ static void test_too_few_points_or_one_thread_are_refused(void)
     TEST_CHECK(kpar_slabs(v, pts, 8, 2, scratch, tmp, begin, end, &s), "8 points, 2 threads");
 }
 
+static void test_cuts_on_a_given_axis_are_its_ranks(void)
+{
+    enum { N = 5001 };
+    tu_rng r = {77};
+    double *v = malloc(3 * N * sizeof *v), *scratch = malloc(N * sizeof *scratch);
+    double *q = malloc(N * sizeof *q);
+    uint32_t *pts = malloc(N * sizeof *pts);
+    make_points(v, N, 0, 2, &r);  /* z is the widest; ask for x and y too */
+    for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
+    for (int axis = -1; axis < 3; axis++) {
+        kpar_slab_cuts s;
+        TEST_CHECK(kpar_slab_cuts_on(v, pts, N, 3, axis, scratch, &s), "axis %d refused", axis);
+        const int want = axis < 0 ? 2 : axis;
+        TEST_CHECK(s.axis == want && s.nth == 3, "asked %d, cut %d (%d slabs)", axis, s.axis, s.nth);
+        for (size_t i = 0; i < N; i++) q[i] = v[3 * i + want];
+        qsort(q, N, sizeof *q, cmp_d);
+        for (int k = 1; k < 3; k++)
+            TEST_CHECK(s.cut[k] == q[N * (size_t)k / 3], "axis %d: cut %d is not rank N k / 3", axis, k);
+        for (size_t i = 0; i < N; i++)
+            TEST_CHECK(pts[i] == i, "kpar_slab_cuts_on reordered pts at %zu", i);
+    }
+    kpar_slab_cuts s;
+    for (size_t i = 0; i < N; i++) v[3 * i + 1] = 0.5;  /* y flat: no balanced slabs */
+    TEST_CHECK(!kpar_slab_cuts_on(v, pts, N, 2, 1, scratch, &s), "slabs across a flat axis");
+    TEST_CHECK(!kpar_slab_cuts_on(v, pts, N, 2, 3, scratch, &s), "axis 3 accepted");
+    free(v);
+    free(scratch);
+    free(q);
+    free(pts);
+}
+
+static void test_crossing_counts_match_a_brute_force_count(void)
+{
+    enum { NV = 400, NT = 3000 };
+    tu_rng r = {5};
+    double v[3 * NV];
+    uint8_t col[NV];
+    uint32_t tv[4 * NT];
+    for (size_t i = 0; i < NV; i++) {
+        for (int d = 0; d < 3; d++) v[3 * i + d] = tu_uniform(&r);
+        col[i] = (uint8_t)(v[3 * i] + v[3 * i + 1] > 1.0);  /* a diagonal plane */
+    }
+    for (size_t t = 0; t < NT; t++) {
+        /* vertices near each other (short tets) or anywhere (long ones) */
+        const uint32_t a = (uint32_t)tu_below(&r, NV);
+        for (int i = 0; i < 4; i++)
+            tv[4 * t + i] = t % 3 ? (uint32_t)tu_below(&r, NV) : (a + (uint32_t)i) % NV;
+        if (t % 7 == 0) tv[4 * t + 3] = KM_GHOST;
+        if (t % 11 == 0) tv[4 * t] |= KM_DEAD;
+    }
+    kpar_slab_cuts s[3];
+    for (int d = 0; d < 3; d++) {
+        s[d] = (kpar_slab_cuts){.axis = d, .nth = 3};
+        s[d].cut[1] = 0.3 + 0.1 * d;
+        s[d].cut[2] = 0.6 + 0.1 * d;
+    }
+    for (size_t stride = 1; stride <= 8; stride += 7) {
+        size_t want[4] = {0, 0, 0, 0}, got[4];
+        for (size_t t = 0; t < NT; t += stride) {
+            const uint32_t *q = tv + 4 * t;
+            if ((q[0] & KM_DEAD) || q[3] == KM_GHOST) continue;
+            int mixed = 0;
+            for (int i = 1; i < 4; i++) mixed |= col[q[i]] != col[q[0]];
+            want[0] += (size_t)mixed;
+            for (int d = 0; d < 3; d++) {
+                int lo = 3, hi = -1;
+                for (int i = 0; i < 4; i++) {
+                    const double x = v[3 * (size_t)q[i] + d];
+                    const int k = x < s[d].cut[1] ? 0 : x < s[d].cut[2] ? 1 : 2;
+                    lo = k < lo ? k : lo;
+                    hi = k > hi ? k : hi;
+                }
+                want[1 + d] += (size_t)(lo != hi);
+            }
+        }
+        kpar_crossing(tv, NT, stride, v, col, s, 2, got);
+        for (int k = 0; k < 4; k++)
+            TEST_CHECK(got[k] == want[k] && want[k] > 0, "stride %zu: count %d is %zu, brute force %zu",
+                       stride, k, got[k], want[k]);
+    }
+}
+
+static void test_the_first_pass_takes_slabs_only_for_a_clear_gain(void)
+{
+    const size_t keep[][4] = {{100, 100, 100, 100}, {100, 80, 90, 76}, {0, 0, 0, 0},
+                              {100, 75, 75, 75}};
+    for (size_t i = 0; i < sizeof keep / sizeof *keep; i++)
+        TEST_CHECK(kpar_first_axis(keep[i]) == -1, "case %zu: took axis %d", i,
+                   kpar_first_axis(keep[i]));
+    const size_t take[][4] = {{100, 74, 90, 80}, {27094, 281, 326, 27097}, {18117, 17395, 10212, 15389},
+                              {100, 50, 50, 60}, {100, 60, 60, 50}};
+    const int axis[] = {0, 0, 1, 0, 2};
+    for (size_t i = 0; i < sizeof take / sizeof *take; i++)
+        TEST_CHECK(kpar_first_axis(take[i]) == axis[i], "case %zu: axis %d, want %d", i,
+                   kpar_first_axis(take[i]), axis[i]);
+}
+
 int main(void)
 {
     TU_RUN(test_select_gives_the_rank_of_the_sorted_order);
     TU_RUN(test_slabs_colour_their_points_and_keep_the_order);
     TU_RUN(test_too_few_points_or_one_thread_are_refused);
+    TU_RUN(test_cuts_on_a_given_axis_are_its_ranks);
+    TU_RUN(test_crossing_counts_match_a_brute_force_count);
+    TU_RUN(test_the_first_pass_takes_slabs_only_for_a_clear_gain);
     return tu_finish();
 }

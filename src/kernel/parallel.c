@@ -10,7 +10,10 @@
  * NOTES.md E21), in a round's first pass from the origin on the loop whose equal-count cuts are
  * coarsest (a dense cluster's faces: E12; else halfway along the curve between two slices'
  * neighbouring points).  The colour boundaries lie between two slices' neighbouring
- * points (on that cell boundary, or halfway along the curve), and they colour every vertex the mesh holds by the end of the round (colour = the slice range its key falls
+ * points (on that cell boundary, or halfway along the curve); when the mesh's tets cross
+ * fewer than 3/4 as often a median plane across one axis, the first pass takes slabs instead
+ * (NOTES.md E70: the top-level Moore split of two slices can fall across a flat shell's thin
+ * axis, where every inner tet crosses it).  They colour every vertex the mesh holds by the end of the round (colour = the slice range its key falls
  * in); vertices of later rounds are never read.  Thread k inserts the points of slice k, and an
  * insertion goes ahead only if the walk and every tet of the cavity stay within tets of
  * thread k (all four vertices of colour k, or three once the run has switched: km_owned;
@@ -231,27 +234,52 @@ static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, uint32_t c
     c->last = last;
 }
 
-/* A retry's slices and colours (O1): slabs between median planes across the pending points'
- * widest axis (slabs.c, NOTES.md E40); 0 when the coordinates do not allow balanced slabs (the
+/* A pass's slabs and colours (O1): slabs between median planes across `axis`, or the pending
+ * points' widest axis (-1) (slabs.c, NOTES.md E40); 0 when the coordinates do not allow balanced slabs (the
  * caller then cuts on keys).  The np doubles of scratch are the radix scratch P->tk (malloc'ed
  * for the round's pending points, 8 bytes each, >= np; unused by a pass that cuts slabs): no
  * allocation in the pass, and the memory guard's count of the round's arrays holds. */
-static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, size_t begin[],
-                      size_t end[])
+static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, int axis,
+                      size_t begin[], size_t end[])
 {
     const kmesh *m = P->m;
     kpar_slab_cuts s;
     double *scratch = (double *)(void *)P->tk;  /* allocated storage: its type is the last store's */
-    if (!kpar_slabs(m->v, pts, np, nth, scratch, P->ti, begin, end, &s)) return 0;
+    if (!kpar_slab_cuts_on(m->v, pts, np, nth, axis, scratch, &s)) return 0;
+    kpar_slab_split(m->v, pts, np, &s, P->ti, begin, end);
     uint8_t *col = P->colour;
 #pragma omp parallel for num_threads(nth) schedule(static)
     for (size_t v = 0; v < nmesh; v++) col[v] = (uint8_t)kpar_slab_of(m->v[3 * v + s.axis], &s);
     return 1;
 }
 
+/* A round's first pass: the axis whose median-plane slabs the mesh's tets cross least, when
+ * they cross fewer than 3/4 of those the Moore slices just cut in P->colour cross (kpar_crossing,
+ * kpar_first_axis in slabs.c, NOTES.md E70); else -1: keep the Moore slices (E12, E21).  The
+ * candidates' cuts are taken on every (np / SLAB_SAMPLE + 1)-th pending point, in the scratch
+ * P->ti, P->tk (free after the Moore cut); only every CROSS_STRIDE-th tet slot is looked at.
+ * Deterministic, like everything the partition reads. */
+#define SLAB_SAMPLE 65536
+#define CROSS_STRIDE 8
+static int first_pass_axis(kpar *P, const uint32_t *pts, size_t np, int nth)
+{
+    const size_t stride = np / SLAB_SAMPLE + 1;
+    size_t ns = 0;
+    for (size_t i = 0; i < np; i += stride) P->ti[ns++] = pts[i];
+    kpar_slab_cuts s[3];
+    for (int d = 0; d < 3; d++)
+        if (!kpar_slab_cuts_on(P->m->v, P->ti, ns, nth, d, (double *)(void *)P->tk, &s[d]))
+            return -1;
+    size_t cross[4];
+    kpar_crossing(P->m->tv, P->m->nt, CROSS_STRIDE, P->m->v, P->colour, s, nth, cross);
+    return kpar_first_axis(cross);
+}
+
 /* The slices and colours of a pass (O1): thread k's slice is pts[begin[k] .. end[k]), and the
  * vertices 0..nmesh-1 get the colours of its regions.  A round's first pass cuts keys:
- * kpar.keys (the BRIO's, or the tight box's computed once; kpar_slices).  Its retries cut
+ * kpar.keys (the BRIO's, or the tight box's computed once; kpar_slices), then takes median
+ * slabs across one axis instead when the mesh's tets cross those far less (first_pass_axis,
+ * NOTES.md E70: the Bunny scan, flat shells and sheets).  Its retries cut
  * slabs (pass_slabs, NOTES.md E40); where slabs are refused, the first retry cuts the same
  * keys between the first pass's cuts (P->cuts, E20) and later ones re-key the vertices in the
  * mesh on an enlarged, shifted box (paper section 4.2). */
@@ -259,7 +287,7 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
                            unsigned pass, size_t begin[], size_t end[])
 {
     kmesh *m = P->m;
-    if (pass > 0 && pass_slabs(P, pts, np, nmesh, nth, begin, end)) {
+    if (pass > 0 && pass_slabs(P, pts, np, nmesh, nth, -1, begin, end)) {
         for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */
             for (size_t i = begin[k]; i < end[k]; i++) GTET_DEBUG_ASSERT(P->colour[pts[i]] == k);
         return;
@@ -301,6 +329,10 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
     for (size_t v = 0; v < nmesh; v++) {
         col[v] = (uint8_t)kpar_colour_of((keys[v] << sh) & KPAR_KEY_MASK, rel, bound0, nth);
     }
+    int axis;
+    if (pass == 0 && (axis = first_pass_axis(P, pts, np, nth)) >= 0 &&
+        pass_slabs(P, pts, np, nmesh, nth, axis, begin, end))
+        P->cuts.nth = 0;  /* no Moore ranges for the retry's E20 cuts (it falls back) */
     for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */
         for (size_t i = begin[k]; i < end[k]; i++) GTET_DEBUG_ASSERT(col[pts[i]] == k);
 }

@@ -17,6 +17,8 @@
  */
 #include "slabs.h"
 
+#include "kmesh.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -86,15 +88,16 @@ static double middle_spread(const double *v, const uint32_t *pts, size_t np, int
     return x3 - x1;
 }
 
-int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
-               uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out)
+int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, int axis,
+                      double *scratch, kpar_slab_cuts *out)
 {
-    if (nth < 2 || nth > 256 || np < 4 * (size_t)nth) return 0;
-    int axis = 0;
-    double widest = -1.0;
-    for (int d = 0; d < 3; d++) {
-        const double w = middle_spread(v, pts, np, d, scratch);
-        if (w > widest) widest = w, axis = d;
+    if (nth < 2 || nth > 256 || np < 4 * (size_t)nth || axis < -1 || axis > 2) return 0;
+    if (axis < 0) {
+        double widest = -1.0;
+        for (int d = 0; d < 3; d++) {
+            const double w = middle_spread(v, pts, np, d, scratch);
+            if (w > widest) widest = w, axis = d;
+        }
     }
     kpar_slab_cuts s = {.axis = axis, .nth = nth};
     for (size_t i = 0; i < np; i++) scratch[i] = v[3 * (size_t)pts[i] + axis];
@@ -108,14 +111,63 @@ int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scrat
     for (size_t i = 0; i < np; i++) cnt[kpar_slab_of(v[3 * (size_t)pts[i] + axis], &s)]++;
     for (int k = 0; k < nth; k++)
         if (cnt[k] < np / (2 * (size_t)nth)) return 0;
+    *out = s;
+    return 1;
+}
+
+void kpar_slab_split(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                     uint32_t *tmp, size_t begin[], size_t end[])
+{
+    size_t cnt[256] = {0};
+    for (size_t i = 0; i < np; i++) cnt[kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s)]++;
     size_t at = 0;
-    for (int k = 0; k < nth; k++) {
+    for (int k = 0; k < s->nth; k++) {
         begin[k] = at;
         at += cnt[k];
         end[k] = begin[k];  /* the fill position; ends at begin[k] + cnt[k] */
     }
-    for (size_t i = 0; i < np; i++) tmp[end[kpar_slab_of(v[3 * (size_t)pts[i] + axis], &s)]++] = pts[i];
+    for (size_t i = 0; i < np; i++)
+        tmp[end[kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s)]++] = pts[i];
     memcpy(pts, tmp, np * sizeof *pts);
-    *out = s;
+}
+
+int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
+               uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out)
+{
+    if (!kpar_slab_cuts_on(v, pts, np, nth, -1, scratch, out)) return 0;
+    kpar_slab_split(v, pts, np, out, tmp, begin, end);
     return 1;
+}
+
+void kpar_crossing(const uint32_t *tv, size_t nt, size_t stride, const double *v,
+                   const uint8_t *col, const kpar_slab_cuts s[3], int nth, size_t cross[4])
+{
+    size_t c0 = 0, c1 = 0, c2 = 0, c3 = 0;
+    if (stride == 0) stride = 1;
+#pragma omp parallel for num_threads(nth) schedule(static) reduction(+ : c0, c1, c2, c3)
+    for (size_t t = 0; t < nt; t += stride) {
+        const uint32_t *q = tv + 4 * t;
+        if ((q[0] & KM_DEAD) || q[3] == KM_GHOST) continue;
+        c0 += col[q[0]] != col[q[1]] || col[q[0]] != col[q[2]] || col[q[0]] != col[q[3]];
+        int a[3] = {0, 0, 0};
+        for (int d = 0; d < 3; d++) {
+            const int k0 = kpar_slab_of(v[3 * (size_t)q[0] + d], &s[d]);
+            for (int i = 1; i < 4; i++) a[d] |= kpar_slab_of(v[3 * (size_t)q[i] + d], &s[d]) != k0;
+        }
+        c1 += (size_t)a[0];
+        c2 += (size_t)a[1];
+        c3 += (size_t)a[2];
+    }
+    cross[0] = c0;
+    cross[1] = c1;
+    cross[2] = c2;
+    cross[3] = c3;
+}
+
+int kpar_first_axis(const size_t cross[4])
+{
+    int best = 0;
+    for (int d = 1; d < 3; d++)
+        if (cross[1 + d] < cross[1 + best]) best = d;
+    return cross[1 + best] * SLAB_FIRST_DEN < cross[0] * SLAB_FIRST_NUM ? best : -1;
 }

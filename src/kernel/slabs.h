@@ -34,6 +34,35 @@ static inline int kpar_slab_of(double x, const kpar_slab_cuts *s)
 int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
                uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out);
 
+/* The cuts of kpar_slabs on `axis` (0..2), or on the widest axis (-1), without reordering
+ * anything: 0 when some slab would hold fewer than np / (2 nth) points (or nth < 2).
+ * scratch: np doubles. */
+int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, int axis,
+                      double *scratch, kpar_slab_cuts *out);
+
+/* Reorder pts[0..np) so that slice k = pts[begin[k] .. end[k]) holds the points of slab k of s
+ * in their previous order.  tmp: np entries. */
+void kpar_slab_split(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                     uint32_t *tmp, size_t begin[], size_t end[]);
+
+/* Of every stride-th tet slot t < nt of tv (4 vertex ids a slot, kmesh.h: a dead slot, with
+ * KM_DEAD in its first id, and a ghost, KM_GHOST 4th, are skipped), the tets whose four vertices
+ * do not all have one colour: cross[0] under the colours col[] (a round's Moore slices),
+ * cross[1 + d] under the slabs s[d] (d = 0, 1, 2; s[d].axis is d).  Those are the tets where a
+ * pass's cavities meet another thread's; long ones (the concavities of a scan, the inside of a
+ * flat shell) cross a folded Moore boundary or a plane along the thin axis far more often
+ * than the right plane (NOTES.md E70).  nth threads count. */
+void kpar_crossing(const uint32_t *tv, size_t nt, size_t stride, const double *v,
+                   const uint8_t *col, const kpar_slab_cuts s[3], int nth, size_t cross[4]);
+
+/* The first pass's partition from kpar_crossing's counts: the axis d (lowest on ties) of the
+ * fewest crossing tets when cross[1 + d] < SLAB_FIRST_NUM / SLAB_FIRST_DEN of cross[0] (a
+ * clear gain: on uniform points, spheres and clusters the Moore slices cross as few or fewer,
+ * and E12 / E21 balance their cost), else -1 (keep the Moore slices). */
+#define SLAB_FIRST_NUM 3
+#define SLAB_FIRST_DEN 4
+int kpar_first_axis(const size_t cross[4]);
+
 /* The element of rank r (0-based) of a[0..n) in ascending order, r < n; a is reordered
  * (a[0..r) <= a[r] <= a[r+1..n) on return).  No NaN.  Exposed for the tests. */
 double kpar_select(double *a, size_t n, size_t r);
