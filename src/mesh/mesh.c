@@ -18,6 +18,18 @@ void gtet_mesh_free(gtet_mesh **mesh)
     *mesh = NULL;
 }
 
+size_t gtet_mesh_take_arrays(gtet_mesh *m, uint32_t **tets, uint32_t **neighbors)
+{
+    *tets = m ? m->tets : NULL;
+    *neighbors = m ? m->neighbors : NULL;
+    size_t nt = m && m->tets && m->neighbors ? m->n_tets : 0;
+    if (m) {
+        m->tets = m->neighbors = NULL;
+        m->n_tets = 0;
+    }
+    return nt;
+}
+
 size_t gtet_mesh_num_points(const gtet_mesh *m) { return m ? m->n_points : 0; }
 size_t gtet_mesh_num_vertices(const gtet_mesh *m) { return m ? m->n_vertices : 0; }
 size_t gtet_mesh_num_duplicates(const gtet_mesh *m) { return m ? m->n_points - m->n_vertices : 0; }

@@ -26,4 +26,13 @@ struct gtet_mesh {
     uint64_t degen_total;     /* decisions made while recording (stored or not) */
 };
 
+/* Internal (not in gigatet.h): hand the mesh's tet and neighbour arrays (4 * n_tets uint32
+ * each, malloc'ed: the caller frees them, or grows them with realloc) to the caller, who may
+ * then rewrite them in place; the mesh keeps no tets (n_tets = 0, NULL arrays) and the rest
+ * (vertices, input map, stats) as it was.  For the distributed mode, whose later rounds patch
+ * the first round's local mesh where it lies (src/mpi/mpi_patch.c, NOTES.md E80) instead of
+ * copying it.  Returns the number of tets handed over (0 with NULL arrays for a NULL or empty
+ * mesh). */
+size_t gtet_mesh_take_arrays(gtet_mesh *m, uint32_t **tets, uint32_t **neighbors);
+
 #endif

@@ -1,5 +1,7 @@
 /* mpi_internal.h -- shared pieces of gigatet's distributed mode (src/mpi/), not public.
- * Built only on the public API (gigatet.h) and MPI. */
+ * Built on the public API (gigatet.h) and MPI, and one internal hook: mpi_patch.c takes the
+ * first round's tet arrays from its gtet_mesh (gtet_mesh_take_arrays, mesh/mesh.h) to patch
+ * them in place. */
 #ifndef GTET_MPI_INTERNAL_H
 #define GTET_MPI_INTERNAL_H
 
@@ -140,9 +142,11 @@ typedef struct run {
     grid gr;
     gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
     uint32_t *ptv, *ptn;        /* ... or, once patched (mx_patch), DT(S) as 4 vertex ids and */
-    size_t pnt;                 /* 4 neighbour tets (GTET_NO_TET on the hull) per tet,
-                                   allocated at twice that size: the output writes its uint64
-                                   arrays over them (mpi_output.c) */
+    size_t pnt;                 /* 4 neighbour tets (GTET_NO_TET on the hull) per tet: the
+                                   first round's arrays, taken from R->mesh
+                                   (gtet_mesh_take_arrays) and patched in place
+                                   (mpi_patch.c: merge, NOTES E80) */
+    size_t pcap;                /* tets ptv and ptn have room for */
     size_t qfrom;               /* the local tets this round made start here: the earlier
                                    ones were decided (queried or certified) before (D3) */
     /* keys of the previous round's queried tets / hull facets, sorted */

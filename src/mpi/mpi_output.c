@@ -47,28 +47,6 @@ static int sort_by_id(mpt *a, size_t n)
 
 #define NOLID UINT32_MAX
 
-/* A patched local mesh's arrays are allocated at twice their size (mpi_patch.c: merge), so the
- * result's uint64 arrays are written over them instead of into 64 B per owned tet of fresh
- * memory (NOTES E54: on this VM the first touch of a page is the dearest part of the output).
- * Entry i, a uint32 at byte 4i, becomes a uint64 at byte 8i, back to front: that write covers
- * the uint32 entries 2i and 2i + 1, both read already (i itself just before, for i = 0); then
- * the owned tets move down to their index among the owned (lid[t] <= t).  Byte copies
- * (memcpy) keep the compiler from reordering the two views' accesses. */
-static void st64(unsigned char *b, size_t i, uint64_t x)
-{
-    memcpy(b + 8 * i, &x, sizeof x);
-}
-
-/* move the owned tets' 4 uint64 entries down to their owned index; returns the block shrunk to
- * them (or unshrunk if realloc declines: shrinking is optional) */
-static uint64_t *compact_owned(unsigned char *b, const uint32_t *lid, size_t nt, size_t own)
-{
-    for (size_t t = 0; t < nt; t++)
-        if (lid[t] != NOLID && lid[t] != t) memcpy(b + 32 * (size_t)lid[t], b + 32 * t, 32);
-    void *p = realloc(b, 32 * own + 1);
-    return p ? p : (void *)b;
-}
-
 gtet_status mx_step_output(run *R, gtet_mpi_result *res)
 {
     mctx *c = &R->c;
@@ -114,32 +92,27 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     res->tet_offset = res->tet_offsets[me];
     res->num_tets_global = res->tet_offsets[P];
     res->num_tets = own;
-    /* a patched mesh (R->ptv) is written over (see st64); else fresh arrays */
-    unsigned char *wide = R->ptv ? (unsigned char *)R->ptn : NULL;
-    if (!wide) {
-        res->tets = mx_malloc(4 * own * sizeof *res->tets);
-        res->neighbors = mx_malloc(4 * own * sizeof *res->neighbors);
-        if (!res->tets || !res->neighbors)
-            s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    }
-    uint64_t nv;   /* the neighbour across each facet, tets back to front (st64) */
-#define SET_NB(t, o, f, x)                                                                   \
-    (nv = (x), wide ? st64(wide, 4 * (t) + (size_t)(f), nv)                                  \
-                    : (void)(res->neighbors[4 * (o) + (size_t)(f)] = nv))
-    for (size_t t = nt; t-- > 0 && s == GTET_OK;) {
+    /* fresh arrays (on huge pages: mx_malloc): 64 B per owned tet, as much new memory as
+     * E54's widening of the patched mesh's arrays took, now that the first round's mesh is
+     * patched in place (mpi_patch.c, NOTES E80), and no copy */
+    res->tets = mx_malloc((4 * own + 1) * sizeof *res->tets);
+    res->neighbors = mx_malloc((4 * own + 1) * sizeof *res->neighbors);
+    if (!res->tets || !res->neighbors) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+#define SET_NB(o, f, x) (res->neighbors[4 * (o) + (size_t)(f)] = (x))
+    for (size_t t = 0; t < nt && s == GTET_OK; t++) {
         if (lid[t] == NOLID) continue;
         size_t o = lid[t];
         const uint32_t *v = tv + 4 * t;
-        for (int f = 3; f >= 0; f--) {
-            if (!wide) res->tets[4 * o + (size_t)f] = vid[v[f]];
+        for (int f = 0; f < 4; f++) {
+            res->tets[4 * o + (size_t)f] = vid[v[f]];
             uint32_t u = nb[4 * t + (size_t)f];
             int tilev = 0;
             for (int i = 0; i < 4; i++)
                 if (i != f && v[i] < m) tilev = 1;
             if (u != GTET_NO_TET && lid[u] != NOLID) {
-                SET_NB(t, o, f, res->tet_offset + lid[u]);   /* both owned here: final (D7) */
+                SET_NB(o, f, res->tet_offset + lid[u]);   /* both owned here: final (D7) */
             } else if (u == GTET_NO_TET && tilev) {
-                SET_NB(t, o, f, GTET_MPI_NO_TET);   /* certified hull facet */
+                SET_NB(o, f, GTET_MPI_NO_TET);   /* certified hull facet */
             } else {
                 frec *r = mx_vec_push(&fr);
                 uint64_t *sl = mx_vec_push(&slot);
@@ -155,16 +128,12 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
                 memcpy(r->key, k4 + 1, sizeof r->key);
                 r->tet = res->tet_offset + o;
                 *sl = 4 * o + (size_t)f;
-                SET_NB(t, o, f, GTET_MPI_NO_TET);
+                SET_NB(o, f, GTET_MPI_NO_TET);
             }
         }
     }
 #undef SET_NB
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
-    if (wide) {
-        res->neighbors = compact_owned(wide, lid, nt, own);
-        R->ptn = NULL;   /* now the result's */
-    }
     /* facet matching: records hashed by their key (D7) */
     size_t nr = fr.n;
     const frec *frs = (const frec *)fr.p;
@@ -253,15 +222,6 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     for (size_t t = 0; t < nt; t++)
         if (lid[t] != NOLID)
             for (int i = 0; i < 4; i++) slotof[tv[4 * t + i]] = 1;
-    if (wide) {   /* the tets' global vertex ids over the patched vertex array (st64) */
-        unsigned char *b = (unsigned char *)R->ptv;
-        for (size_t t = nt; t-- > 0;)
-            if (lid[t] != NOLID)
-                for (int f = 3; f >= 0; f--)
-                    st64(b, 4 * t + (size_t)f, vid[tv[4 * t + (size_t)f]]);
-        res->tets = compact_owned(b, lid, nt, own);
-        R->ptv = NULL;
-    }
     size_t w = 0;
     for (size_t i = 0; i < R->ns; i++)
         if (slotof[i]) {

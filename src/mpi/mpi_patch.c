@@ -8,12 +8,15 @@
  * by hull facets, and are found by a flood over DT(W) from the kept tets' cavity facets that
  * never crosses one of those.  Any inconsistency (a cavity facet with no tet of DT(W) on its
  * inner side, a flood that meets a kept tet's facet from the wrong tet, W flat) makes the caller
- * triangulate S u N from scratch instead. */
+ * triangulate S u N from scratch instead.  The first round's arrays are patched where they lie
+ * (taken from its gtet_mesh): C's slots are filled by the last kept tets, the new tets go after
+ * them, so a round costs the size of C and H, not of the mesh (merge, NOTES.md E80). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "mesh/mesh.h"
 #include "mpi/mpi_internal.h"
 
 #define NONE UINT32_MAX
@@ -460,25 +463,40 @@ static int triangulate_w(patch *X)
 }
 
 /* the cavity facets: a kept tet's facet across which the tet is in C or the hull facet is in
- * H -> 4t+f; a hull facet of a tet of C not in H (stays a hull facet) -> NONE */
-static void cavity_facets(const patch *X, fmap *B, size_t *nkept_facets)
+ * H -> 4t+f; a hull facet of a tet of C not in H (stays a hull facet) -> NONE.  Found from the
+ * marked tets alone (cf != 0: C, and kept tets with a hull facet in H): a kept tet's facet on
+ * C is the facet its neighbour in C shares with it, so the work is in C and H, not in the
+ * mesh (NOTES.md E80).  1, or 0 if a neighbour link has no way back (fall back) */
+static int cavity_facets(const patch *X, fmap *B, size_t *nkept_facets)
 {
     *nkept_facets = 0;
     for (size_t t = 0; t < X->nt; t++) {
+        if (!X->cf[t]) continue;
         const uint32_t *v = X->tv + 4 * t;
+        int inC = X->cf[t] & 16;
         for (int f = 0; f < 4; f++) {
             uint32_t u = X->nb[4 * t + f], k[3];
-            int inC = X->cf[t] & 16;
-            if (!inC && (u != GTET_NO_TET ? (X->cf[u] & 16) != 0 : (X->cf[t] >> f) & 1)) {
+            int hullH = u == GTET_NO_TET && ((X->cf[t] >> f) & 1);
+            if (!inC) {                               /* kept: its hull facets in H */
+                if (!hullH) continue;
                 facet_key(v, f, k);
                 fm_put(B, k, (uint32_t)(4 * t + (size_t)f));
                 ++*nkept_facets;
-            } else if (inC && u == GTET_NO_TET && !((X->cf[t] >> f) & 1)) {
+            } else if (u == GTET_NO_TET) {            /* C's hull facet not in H stays */
+                if (hullH) continue;
                 facet_key(v, f, k);
                 fm_put(B, k, NONE);
+            } else if (!(X->cf[u] & 16)) {            /* kept u: its facet facing t */
+                int g = 0;
+                while (g < 4 && X->nb[4 * (size_t)u + g] != t) g++;
+                if (g == 4) return 0;
+                facet_key(X->tv + 4 * (size_t)u, g, k);
+                fm_put(B, k, 4 * u + (uint32_t)g);
+                ++*nkept_facets;
             }
         }
     }
+    return 1;
 }
 
 /* the tet of DT(W) on the other side of kept tet K's facet f than K, or NONE */
@@ -552,36 +570,70 @@ static int flood(const patch *X, const fmap *B, const fmap *WF, size_t nkf, uint
     return linked == nkf;
 }
 
-/* DT(S u N): the kept tets (renumbered in order), then the new ones; -1 out of memory */
+/* room for nt2 tets in R->ptv, R->ptn (the first round's arrays, taken exactly full), with
+ * 1/32 more for later rounds' few new tets; the arrays' contents stay as they were whatever
+ * happens.  0, or -1 out of memory */
+static int reserve_tets(run *R, size_t nt2)
+{
+    if (nt2 <= R->pcap) return 0;
+    size_t cap = nt2 + R->pnt / 32 + 64;
+    uint32_t *tv = mx_realloc(R->ptv, 4 * cap * sizeof *tv);
+    if (!tv) return -1;
+    R->ptv = tv;
+    uint32_t *tn = mx_realloc(R->ptn, 4 * cap * sizeof *tn);
+    if (!tn) return -1;
+    R->ptn = tn;
+    R->pcap = cap;
+    return 0;
+}
+
+/* a link from a kept tet into C, cut before the kept tets move (GTET_NO_TET is NONE) */
+#define CUT (NONE - 1)
+
+/* the kept tets at or above nk, in order, into the holes C leaves below nk (as many of each):
+ * mv[s - nk] = where s went; every link between kept tets is kept pointing at the tet's
+ * current slot, as the moved tet's kept neighbours' back-links are redirected with it */
+static void compact_kept(uint32_t *tv, uint32_t *tn, const uint8_t *cf, size_t nt, size_t nk,
+                         uint32_t *mv)
+{
+    size_t h = 0;
+    for (size_t s = nk; s < nt; s++) {
+        mv[s - nk] = NONE;
+        if (cf[s] & 16) continue;
+        while (!(cf[h] & 16)) h++;                 /* the next hole below nk */
+        memcpy(tv + 4 * h, tv + 4 * s, 4 * sizeof *tv);
+        memcpy(tn + 4 * h, tn + 4 * s, 4 * sizeof *tn);
+        for (int f = 0; f < 4; f++) {
+            uint32_t u = tn[4 * h + (size_t)f];
+            if (u == GTET_NO_TET || u == CUT) continue;
+            for (int g = 0; g < 4; g++)
+                if (tn[4 * (size_t)u + g] == (uint32_t)s) tn[4 * (size_t)u + g] = (uint32_t)h;
+        }
+        mv[s - nk] = (uint32_t)h++;
+    }
+}
+
+/* DT(S u N) in place: the kept tets compacted into slots 0..nk-1 (compact_kept), the new ones
+ * after them; only C's slots, the moved tets and their neighbours' links are written, not the
+ * mesh (NOTES.md E80).  1, or -1 out of memory (the arrays then unchanged) */
 static int merge(patch *X, const fmap *B, const uint32_t *fid, size_t nnew)
 {
     run *R = X->R;
     const uint32_t *wt = gtet_mesh_tets(X->wm), *wn = gtet_mesh_neighbors(X->wm);
-    size_t nwt = gtet_mesh_num_tets(X->wm), nk = 0;
-    uint32_t *newt = mx_malloc((X->nt + 1) * sizeof *newt);
-    if (!newt) return -1;
-    for (size_t t = 0; t < X->nt; t++) newt[t] = (X->cf[t] & 16) ? NONE : (uint32_t)nk++;
-    size_t nt2 = nk + nnew;
-    /* twice the size: the output writes its uint64 result over them (mpi_output.c: st64);
-     * the untouched halves cost no memory until then */
-    uint32_t *tv = mx_malloc((8 * nt2 + 2) * sizeof *tv);
-    uint32_t *tn = mx_malloc((8 * nt2 + 2) * sizeof *tn);
-    if (!tv || !tn) {
-        free(newt);
-        free(tv);
-        free(tn);
+    size_t nwt = gtet_mesh_num_tets(X->wm), nt = X->nt, nc = 0;
+    for (size_t t = 0; t < nt; t++) nc += (X->cf[t] & 16) != 0;
+    size_t nk = nt - nc, nt2 = nk + nnew;
+    uint32_t *mv = mx_malloc((nc + 1) * sizeof *mv);
+    if (!mv || reserve_tets(R, nt2) != 0) {
+        free(mv);
         return -1;
     }
-    for (size_t t = 0; t < X->nt; t++) {
-        if (newt[t] == NONE) continue;
-        size_t o = newt[t];
-        for (int f = 0; f < 4; f++) {
-            uint32_t u = X->nb[4 * t + f];
-            tv[4 * o + f] = X->tv[4 * t + f];
-            tn[4 * o + f] = u != GTET_NO_TET ? newt[u] : GTET_NO_TET;  /* NONE: set below */
-            if (u == GTET_NO_TET && ((X->cf[t] >> f) & 1)) tn[4 * o + f] = NONE;
-        }
+    uint32_t *tv = R->ptv, *tn = R->ptn;
+    for (size_t i = 0; i < B->cap; i++) {          /* cut the kept tets' links into C */
+        uint32_t b = B->k[4 * i + 3];
+        if (B->k[4 * i] != NONE && b != NONE) tn[b] = CUT;
     }
+    compact_kept(tv, tn, X->cf, nt, nk, mv);
     for (size_t w = 0; w < nwt; w++) {
         if (fid[w] == NONE) continue;
         size_t o = nk + fid[w];
@@ -592,7 +644,7 @@ static int merge(patch *X, const fmap *B, const uint32_t *fid, size_t nnew)
             facet_key(sv, g, k);
             uint32_t b = fm_get(B, k), u = wn[4 * w + g];
             if (b != NONE && b != NONE - 1) {       /* across a kept tet's cavity facet */
-                size_t K = newt[b / 4];
+                size_t K = b / 4 < nk ? b / 4 : mv[b / 4 - nk];
                 tn[4 * o + g] = (uint32_t)K;
                 tn[4 * K + b % 4] = (uint32_t)o;
             } else {
@@ -600,11 +652,7 @@ static int merge(patch *X, const fmap *B, const uint32_t *fid, size_t nnew)
             }
         }
     }
-    free(newt);
-    free(R->ptv);
-    free(R->ptn);
-    R->ptv = tv;
-    R->ptn = tn;
+    free(mv);
     R->pnt = nt2;
     R->qfrom = nk;   /* the new tets, made by this round (D3: the kept ones were decided) */
     return 1;
@@ -620,6 +668,17 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
     X.R = R;
     X.n_old = n_old;
     *done = 0;
+    if (!R->ptv && gtet_mesh_num_tets(R->mesh) > 0) {
+        /* the first patch: the round-1 mesh's arrays become ours, to patch in place */
+        R->pnt = R->pcap = gtet_mesh_take_arrays(R->mesh, &R->ptv, &R->ptn);
+        gtet_mesh_free(&R->mesh);
+        /* room for the later rounds' new tets now, before this patch allocates anything:
+         * the kernel shrank the arrays from 7 slots a point (build.c), and glibc can grow
+         * them back into that tail where they lie, while they would be copied to new memory
+         * once other blocks took it (seen at 1M points: a 0.3 s, 56 MB copy) */
+        if (reserve_tets(R, R->pnt + 1) != 0)
+            return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    }
     mx_local_mesh(R, &X.nt, &X.tv, &X.nb);
     if (!X.tv) return GTET_OK;
     if (n_old == R->ns) {   /* nothing new here (other ranks got points): DT(S) stands */
@@ -652,7 +711,10 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
     memset(B.k, 0xff, 4 * B.cap * sizeof *B.k);
     memset(WF.k, 0xff, 4 * WF.cap * sizeof *WF.k);
     size_t nkf, nnew;
-    cavity_facets(&X, &B, &nkf);
+    if (!cavity_facets(&X, &B, &nkf)) {
+        ok = 0;
+        goto out;
+    }
     const uint32_t *wt = gtet_mesh_tets(X.wm);
     for (size_t w = 0; w < nwt; w++)
         for (int g = 0; g < 4; g++) {
@@ -673,6 +735,5 @@ out:
     free(WF.k);
     free(fid);
     free(stack);
-    if (*done) gtet_mesh_free(&R->mesh);   /* DT(S u N) lives in R->ptv, R->ptn */
     return ok < 0 ? mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory") : GTET_OK;
 }
