@@ -14,7 +14,9 @@
  *     the exact in-circle sign when that is non-zero (checked against a plain 2D in-circle on
  *     planes z = const), and matches orc_ghost_conflict, on planes that need each projection;
  *   - the lattice path (perturbation from the filter's minors) and the integer path (from the
- *     small-integer stage's minors, pred_static.int23) answer as the general rule.
+ *     small-integer stage's minors, pred_static.int23) answer as the general rule;
+ *   - on small integers the filter's record, where it claims an exact evaluation, agrees with
+ *     the integer stage (sign and minors), inside and across the bound PRED_IS_INT_EXACT.
  */
 #include "oracle/oracle.h"
 #include "pred/pred_internal.h"
@@ -268,7 +270,7 @@ static void test_lattice_perturbation_from_minors_matches_the_general_rule(void)
         gtet_pred_counters k_cnt;
         memset(&k_cnt, 0, sizeof k_cnt);
         if (!distinct || pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
-        double mn[4];
+        double mn[PRED_IS_NMINORS];
         const int f = pred_insphere_filter(q[0], q[1], q[2], q[3], q[4], ps.is_seps, mn);
         const int ref = pred_insphere_sos(q[0], q[1], q[2], q[3], q[4], &k_cnt);
         const int got = f ? f : pred_insphere_sos_rest(q[0], q[1], q[2], q[3], q[4], &ps, mn, &k_cnt);
@@ -417,7 +419,7 @@ static void test_lattice_ranking_at_the_largest_extent_matches_the_general_rule(
                 gtet_pred_counters k_cnt;
                 memset(&k_cnt, 0, sizeof k_cnt);
                 if (pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
-                double mn[4];
+                double mn[PRED_IS_NMINORS];
                 const int f = pred_insphere_filter(q[0], q[1], q[2], q[3], q[4], ps.is_seps, mn);
                 const int ref = pred_insphere_sos(q[0], q[1], q[2], q[3], q[4], &k_cnt);
                 const int got =
@@ -431,6 +433,128 @@ static void test_lattice_ranking_at_the_largest_extent_matches_the_general_rule(
     TEST_CHECK(bad == 0, "%ld disagreements between the lattice ranking and the general rule", bad);
 }
 
+/* The largest magnitude of any intermediate (every product, difference and sum) of
+ * pred_insphere_filter's evaluation (filter.h, in its order) of an integer tuple, computed
+ * exactly; every operation of the filter is exact iff it is at most 2^53 (integers up to 2^53
+ * are doubles, the inputs are integers).  Coordinates below 2^23: every value < 2^127. */
+static pred_i128 filter_peak_;
+static pred_i128 pk_(pred_i128 v)
+{
+    const pred_i128 m = v < 0 ? -v : v;
+    if (m > filter_peak_) filter_peak_ = m;
+    return v;
+}
+#define PK_MUL(x, y) pk_((pred_i128)(x) * (y))
+#define PK_SUB(x, y) pk_((x) - (y))
+#define PK_ADD(x, y) pk_((x) + (y))
+static pred_i128 insphere_filter_peak(double q[5][3])
+{
+    pred_i128 t[4][3];
+    filter_peak_ = 0;
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 3; j++) t[i][j] = pk_((pred_i128)q[i][j] - (pred_i128)q[4][j]);
+    const pred_i128 *A = t[0], *B = t[1], *C = t[2], *D = t[3];
+    const pred_i128 ab = PK_SUB(PK_MUL(A[0], B[1]), PK_MUL(B[0], A[1]));
+    const pred_i128 bc = PK_SUB(PK_MUL(B[0], C[1]), PK_MUL(C[0], B[1]));
+    const pred_i128 cd = PK_SUB(PK_MUL(C[0], D[1]), PK_MUL(D[0], C[1]));
+    const pred_i128 da = PK_SUB(PK_MUL(D[0], A[1]), PK_MUL(A[0], D[1]));
+    const pred_i128 ac = PK_SUB(PK_MUL(A[0], C[1]), PK_MUL(C[0], A[1]));
+    const pred_i128 bd = PK_SUB(PK_MUL(B[0], D[1]), PK_MUL(D[0], B[1]));
+    const pred_i128 abc = PK_ADD(PK_SUB(PK_MUL(A[2], bc), PK_MUL(B[2], ac)), PK_MUL(C[2], ab));
+    const pred_i128 bcd = PK_ADD(PK_SUB(PK_MUL(B[2], cd), PK_MUL(C[2], bd)), PK_MUL(D[2], bc));
+    const pred_i128 cda = PK_ADD(PK_ADD(PK_MUL(C[2], da), PK_MUL(D[2], ac)), PK_MUL(A[2], cd));
+    const pred_i128 dab = PK_ADD(PK_ADD(PK_MUL(D[2], ab), PK_MUL(A[2], bd)), PK_MUL(B[2], da));
+    pred_i128 w[4];
+    for (int i = 0; i < 4; i++)
+        w[i] = PK_ADD(PK_ADD(PK_MUL(t[i][0], t[i][0]), PK_MUL(t[i][1], t[i][1])),
+                      PK_MUL(t[i][2], t[i][2]));
+    PK_ADD(PK_SUB(PK_MUL(w[2], dab), PK_MUL(w[3], abc)),
+           PK_SUB(PK_MUL(w[0], bcd), PK_MUL(w[1], cda)));
+    return filter_peak_;
+}
+
+/* The exact filter record (NOTES.md E90; filter.h PRED_IS_INT_EXACT, sos.c
+ * pred_insphere_sos_rest_log, proofs/filters.md section 12): on a set of integers below 2^23
+ * an undecided filter whose record has ((((X*Y)*Z)*M)*M) <= 2^46 evaluated exactly, so the
+ * kernel takes its det~'s sign and its minors as exact.  Paraboloid tuples (x, y, x^2 + y^2),
+ * scaled by k in x and y and k^2 in z, anywhere in (-2^22, 2^22)^3: on a 9 x 9 grid (k <= 40),
+ * and on two concentric lattice circles (k <= 16; always co-spherical), so that XYZM^2 ranges
+ * from ~2^20 to ~2^70 across the bound: wherever the record claims exactness, every
+ * intermediate of the evaluation must be at most 2^53 (computed exactly), det~'s sign must be
+ * the integer stage's and, on a zero, the minors its exact minors; the kernel's answer must equal the general pred_insphere_sos.  Tuples just inside
+ * and beyond the bound must both occur, so a larger bound is seen to fail. */
+static void test_exact_filter_record_on_small_integers_matches_the_integer_stage(void)
+{
+    tu_rng r = {46};
+    const double L = 0x1p23;
+    double box[2][3] = {{-L + 1, -L + 1, -L + 1}, {L - 1, L - 1, L - 1}};
+    pred_static ps;
+    pred_static_init(&box[0][0], 3, 2, &ps);
+    TEST_REQUIRE(ps.int23 && !ps.is_exact, "the set (-2^23, 2^23)^3 is not called int23");
+    /* 12 lattice points on each of the circles x^2 + y^2 = 25, 50, 65 */
+    static const int circle[3][12][2] = {
+        {{5, 0}, {-5, 0}, {0, 5}, {0, -5}, {3, 4}, {-3, 4}, {3, -4}, {-3, -4}, {4, 3}, {-4, 3},
+         {4, -3}, {-4, -3}},
+        {{1, 7}, {-1, 7}, {1, -7}, {-1, -7}, {7, 1}, {-7, 1}, {7, -1}, {-7, -1}, {5, 5}, {-5, 5},
+         {5, -5}, {-5, -5}},
+        {{1, 8}, {-1, 8}, {1, -8}, {-1, -8}, {8, 1}, {-8, 1}, {8, -1}, {-8, -1}, {4, 7}, {-4, 7},
+         {7, 4}, {-7, -4}}};
+    long claims = 0, near = 0, beyond = 0, zeros = 0, bad = 0;
+    for (int t = 0; t < 100000; t++) {
+        double q[5][3], o[3];
+        for (int j = 0; j < 3; j++) o[j] = (double)tu_below(&r, 1u << 22) - 0x1p21;
+        const double k = 1 + (double)tu_below(&r, t & 1 ? 40 : 16);
+        const int c1 = (int)tu_below(&r, 3), c2 = (c1 + 1 + (int)tu_below(&r, 2)) % 3;
+        for (int i = 0; i < 5; i++) {
+            double x = (double)tu_below(&r, 9) - 4, y = (double)tu_below(&r, 9) - 4;
+            if (!(t & 1)) {  /* two concentric circles of the paraboloid: co-spherical */
+                const int *pt = circle[i < 2 ? c1 : c2][tu_below(&r, 12)];
+                x = pt[0];
+                y = pt[1];
+            }
+            q[i][0] = o[0] + k * x;
+            q[i][1] = o[1] + k * y;
+            q[i][2] = o[2] + k * k * (x * x + y * y);
+        }
+        int distinct = 1;
+        for (int i = 0; i < 5; i++)
+            for (int m = 0; m < i; m++) distinct &= pred_lex_cmp(q[i], q[m]) != 0;
+        gtet_pred_counters k_cnt;
+        memset(&k_cnt, 0, sizeof k_cnt);
+        if (!distinct || pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
+        double mn[PRED_IS_NMINORS];
+        const int f = pred_insphere_filter(q[0], q[1], q[2], q[3], q[4], ps.is_seps, mn);
+        const int ref = pred_insphere_sos(q[0], q[1], q[2], q[3], q[4], &k_cnt);
+        const int got = f ? f : pred_insphere_sos_rest(q[0], q[1], q[2], q[3], q[4], &ps, mn,
+                                                       &k_cnt);
+        bad += got != ref;
+        if (f != 0) continue;
+        if (!(mn[5] <= PRED_IS_INT_EXACT)) {
+            beyond++;
+            continue;
+        }
+        claims++;
+        near += mn[5] > PRED_IS_INT_EXACT / 64;
+        bad += insphere_filter_peak(q) > ((pred_i128)1 << 53);
+        int s;
+        pred_i128 im[4];
+        TEST_REQUIRE(pred_insphere_int_m(q[0], q[1], q[2], q[3], q[4], 1, &s, im),
+                     "the integer stage refused an int23 tuple");
+        bad += s != (mn[4] > 0) - (mn[4] < 0);
+        if (s != 0) continue;
+        zeros++;
+        for (int m = 0; m < 4; m++)
+            bad += !(fabs(mn[m]) < 0x1p100) || (pred_i128)mn[m] != im[m];
+    }
+    TEST_CHECK(claims > 10000 && zeros > 10000, "only %ld exact records, %ld zeros", claims,
+               zeros);
+    TEST_CHECK(near > 1000 && beyond > 1000, "%ld records within 2^6 of the bound, %ld beyond",
+               near, beyond);
+    printf("exact records %ld (zeros %ld, within 2^6 of the bound %ld), beyond %ld\n", claims,
+           zeros, near, beyond);
+    TEST_CHECK(bad == 0, "%ld disagreements with the integer stage or the general rule", bad);
+}
+
 int main(void)
 {
     TU_RUN(test_insphere_sos_hand_checked_cube_cases);
@@ -441,6 +565,7 @@ int main(void)
     TU_RUN(test_lattice_perturbation_from_minors_matches_the_general_rule);
     TU_RUN(test_lattice_ranking_at_the_largest_extent_matches_the_general_rule);
     TU_RUN(test_integer_perturbation_from_minors_matches_the_general_rule);
+    TU_RUN(test_exact_filter_record_on_small_integers_matches_the_integer_stage);
     printf("sos decisions %llu (depth %llu %llu %llu %llu)\n", (unsigned long long)cnt.sos_calls,
            (unsigned long long)cnt.sos_depth[0], (unsigned long long)cnt.sos_depth[1],
            (unsigned long long)cnt.sos_depth[2], (unsigned long long)cnt.sos_depth[3]);

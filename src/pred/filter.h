@@ -158,10 +158,33 @@ static inline int pred_orient3d_filter(const double *a, const double *b, const d
     return (det > eps) - (det < -eps);
 }
 
+/* What pred_insphere_filter leaves in `minors` (PRED_IS_NMINORS doubles) when undecided:
+ * [0..3] the computed 3x3 minors abc, bcd, cda, dab of the translated points; then, unless
+ * seps == 0, [4] the computed det~ and [5] the computed ((((X*Y)*Z)*M)*M), or +inf when the
+ * guard failed.  On a set of integers below 2^23 (pred_static.int23) with [5] <= PRED_IS_INT_EXACT
+ * every operation of the evaluation was exact (proofs/filters.md section 12): det~ and the
+ * minors are the exact values (sos.c pred_insphere_sos_rest_log). */
+#define PRED_IS_NMINORS 6
+#define PRED_IS_INT_EXACT 0x1p46
+
+/* The undecided filter's record (above); returns 0 (undecided). */
+static inline int pred_insphere_keep_(double *minors, double abc, double bcd, double cda,
+                                      double dab, double det, double xyzmm)
+{
+    minors[0] = abc;
+    minors[1] = bcd;
+    minors[2] = cda;
+    minors[3] = dab;
+    minors[4] = det;
+    minors[5] = xyzmm;
+    return 0;
+}
+
 /* +1 / -1 when certain, 0 undecided; seps as for orient3d (pred_insphere_static_eps).  With
  * seps == 0 (a lattice: the evaluation is exact, proofs/filters.md section 9) an undecided
  * answer is an exact zero, and `minors`, when not NULL, receives the exact 3x3 minors
- * abc, bcd, cda, dab of the translated points, which the perturbation reuses (sos.c). */
+ * abc, bcd, cda, dab of the translated points, which the perturbation reuses (sos.c); with
+ * another seps an undecided answer leaves the record described above in `minors`. */
 static inline int pred_insphere_filter(const double *a, const double *b, const double *c,
                                        const double *d, const double *e, double seps,
                                        double *minors)
@@ -204,8 +227,11 @@ static inline int pred_insphere_filter(const double *a, const double *b, const d
                                pred_max_(pred_fabs_(cz), pred_fabs_(dz)));
     const double lo = pred_min_(pred_min_(X, Y), Z);
     const double M = pred_max_(pred_max_(X, Y), Z);
-    if (!(lo >= PRED_IS_LO && M <= PRED_IS_HI)) return 0;
+    if (!(lo >= PRED_IS_LO && M <= PRED_IS_HI))
+        return minors ? pred_insphere_keep_(minors, abc, bcd, cda, dab, det, __builtin_inf()) : 0;
     const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
+    if (minors && !(det > eps) && !(det < -eps))
+        pred_insphere_keep_(minors, abc, bcd, cda, dab, det, (((X * Y) * Z) * M) * M);
     return (det > eps) - (det < -eps);
 }
 

@@ -77,8 +77,9 @@ int pred_orient3d_rest(const double *a, const double *b, const double *c, const 
 
 /* The perturbed insphere for points of ps's set after the caller's inline
  * pred_insphere_filter(..., ps->is_seps, minors) was undecided; counts the call.  minors: what
- * that filter reported (used only when ps->is_exact; may be NULL otherwise).  Same answer as
- * pred_insphere_sos. */
+ * that filter reported (PRED_IS_NMINORS doubles; used when ps->is_exact, and on a set of small
+ * integers when its record shows an exact evaluation; may be NULL unless ps->is_exact).  Same
+ * answer as pred_insphere_sos. */
 int pred_insphere_sos_rest(const double *a, const double *b, const double *c, const double *d,
                            const double *e, const pred_static *ps, const double *minors,
                            pred_counters *cnt);

@@ -231,7 +231,8 @@ static int orient_from_minors(const double *mn, int k)
     case 1: v = -mn[2]; break;
     case 2: v = mn[3]; break;
     case 3: v = -mn[0]; break;
-    default: v = ((mn[1] - mn[2]) + mn[3]) - mn[0]; break;  /* exact: each <= 6 E^3 units */
+    default: v = ((mn[1] - mn[2]) + mn[3]) - mn[0]; break;  /* exact: each <= 6 E^3 units
+                                                              (6XYZ, filters.md 12) */
     }
     return (v > 0) - (v < 0);
 }
@@ -255,8 +256,9 @@ static int orient_from_int_minors(const pred_i128 *mn, int k, pred_counters *cnt
 }
 
 /* The perturbation of an exactly zero insphere (the file comment), its orient3d evaluated for
- * points of ps's set, or read off the exact minors mn (lattice, pred_insphere_filter) or the
- * exact integer minors im (pred_insphere_int_m) when not NULL. */
+ * points of ps's set, or read off the exact minors mn (pred_insphere_filter's, exact on a
+ * lattice or by proofs/filters.md section 12) or the exact integer minors im
+ * (pred_insphere_int_m) when not NULL; lattice: ps->is_exact (the ranks by lex_top2_lattice). */
 static int insphere_perturbed(const double *a, const double *b, const double *c, const double *d,
                               const double *e, const pred_static *ps, const double *mn,
                               const pred_i128 *im, pred_counters *cnt, pred_sos_log *log)
@@ -264,7 +266,7 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
     cnt->sos_calls++;
     const double *p[5] = {a, b, c, d, e};
     int top[2];
-    if (mn)
+    if (mn && ps->is_exact)
         lex_top2_lattice(p, &top[0], &top[1]);
     else
         lex_top2(p, &top[0], &top[1]);
@@ -326,6 +328,16 @@ int pred_insphere_sos_rest_log(const double *a, const double *b, const double *c
      * E30); counted as pred_insphere_exact counts it */
     pred_i128 im[4];
     int s;
+    if (ps->int23 && minors && minors[5] <= PRED_IS_INT_EXACT) {
+        /* the filter's evaluation was exact (proofs/filters.md section 12): its det~ is the
+         * determinant and its minors are exact; counted as the integer stage counts it */
+        cnt->insphere_exact++;
+        cnt->insphere_int++;
+        s = (minors[4] > 0) - (minors[4] < 0);
+        if (s != 0) return s;
+        cnt->insphere_zero++;
+        return insphere_perturbed(a, b, c, d, e, ps, minors, NULL, cnt, log);
+    }
     if (ps->int23 && pred_insphere_int_m(a, b, c, d, e, 1, &s, im)) {  /* always applies */
         cnt->insphere_exact++;
         cnt->insphere_int++;
