@@ -261,6 +261,11 @@ static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, 
  * Deterministic, like everything the partition reads. */
 #define SLAB_SAMPLE 65536
 #define CROSS_STRIDE 8
+/* Which tets a stride samples must not depend on the threads' timing: a parallel pass's fresh
+ * slots come in blocks of KM_SLOT_BLOCK claimed from the pass's first free slot in whatever
+ * order the threads get there, so a tet's slot moves by whole blocks between runs, and keeps
+ * its residue modulo the stride (free lists are per thread and filled in its own order). */
+_Static_assert(KM_SLOT_BLOCK % CROSS_STRIDE == 0, "the crossing sample must not depend on timing");
 static int first_pass_axis(kpar *P, const uint32_t *pts, size_t np, int nth)
 {
     const size_t stride = np / SLAB_SAMPLE + 1;
