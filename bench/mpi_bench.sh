@@ -4,7 +4,8 @@
 #     gigatet-mpi -t 1` against `gigatet -t 2` (goal at 4M: <= 1.25x), RUNS interleaved
 #     repetitions, medians of the wall seconds of the whole command and of the library's own
 #     seconds (gigatet's summary `seconds`, gigatet-mpi's per-rank total), of the CPU seconds
-#     (user + sys of gigatet, summed over the ranks for gigatet-mpi), the load average
+#     (user + sys of gigatet, summed over the ranks for gigatet-mpi), of the peak RSS (the
+#     largest rank's for gigatet-mpi), the load average
 #     before each run; per-rank phase seconds, ghost points, queries and bytes sent per point
 #     of the median MPI run;
 #  2. weak scaling: -np 4 (oversubscribed on a 2-core machine, so the times are CPU shares, not
@@ -32,19 +33,20 @@ for n in $sizes; do
       s=$(date +%s.%N)
       rm -f "$work"/cpu.*
       if [ "$what" = single ]; then
-        line=$(/usr/bin/time -f "%U %S" -o "$work/cpu.0" "$b/gigatet" triangulate "$work/u.bin" -t 2)
+        line=$(/usr/bin/time -f "%U %S %M" -o "$work/cpu.0" "$b/gigatet" triangulate "$work/u.bin" -t 2)
         e=$(date +%s.%N)
         lib=$(echo "$line" | sed -n 's/.*seconds=\([0-9.]*\).*/\1/p')
       else
         # each rank under /usr/bin/time: CPU seconds (user + sys) summed over the ranks
-        json=$(mpirun -np 2 --bind-to none sh -c '/usr/bin/time -f "%U %S" -o "$0/cpu.$OMPI_COMM_WORLD_RANK" "$@"' \
+        json=$(mpirun -np 2 --bind-to none sh -c '/usr/bin/time -f "%U %S %M" -o "$0/cpu.$OMPI_COMM_WORLD_RANK" "$@"' \
                "$work" "$b/gigatet-mpi" triangulate "$work/u.bin" -t 1 --stats)
         e=$(date +%s.%N)
         echo "$json" > "$work/mpi2-$n-$r.json"
         lib=$(echo "$json" | python3 -c "import json,sys; d=json.load(sys.stdin); print(max(r['seconds']['total'] for r in d['per_rank']))")
       fi
       cpu=$(cat "$work"/cpu.* | awk '{c += $1 + $2} END {printf "%.2f", c}')
-      echo "$what run=$r wall=$(echo "$e - $s" | bc) lib=$lib cpu=$cpu load=$l" | tee -a "$results"
+      rss=$(cat "$work"/cpu.* | awk '$3 > m {m = $3} END {printf "%d", m / 1024}')
+      echo "$what run=$r wall=$(echo "$e - $s" | bc) lib=$lib cpu=$cpu rssMiB=$rss load=$l" | tee -a "$results"
     done
   done
   python3 - "$results" "$work" "$n" <<'PY'
@@ -55,7 +57,7 @@ sw, sl, mw, ml = med('single','wall'), med('single','lib'), med('mpi2','wall'), 
 sc, mc = med('single','cpu'), med('mpi2','cpu')
 loads = [float(r['load']) for r in rows]
 n = int(sys.argv[3])
-print(f"{n} uniform: gigatet -t 2: wall {sw:.2f} s (library {sl:.2f} s); mpirun -np 2 -t 1: wall {mw:.2f} s (library {ml:.2f} s); ratio wall {mw/sw:.3f}, library {ml/sl:.3f}; CPU (user+sys, all ranks) {sc:.2f} vs {mc:.2f} s, ratio {mc/sc:.3f}; load {min(loads):.1f}-{max(loads):.1f}")
+print(f"{n} uniform: gigatet -t 2: wall {sw:.2f} s (library {sl:.2f} s); mpirun -np 2 -t 1: wall {mw:.2f} s (library {ml:.2f} s); ratio wall {mw/sw:.3f}, library {ml/sl:.3f}; CPU (user+sys, all ranks) {sc:.2f} vs {mc:.2f} s, ratio {mc/sc:.3f}; peak RSS {med('single','rssMiB'):.0f} MiB vs {med('mpi2','rssMiB'):.0f} MiB a rank; load {min(loads):.1f}-{max(loads):.1f}")
 mp = sorted((float(r['lib']), r['run']) for r in rows if r['kind'] == 'mpi2')
 d = json.load(open(f"{sys.argv[2]}/mpi2-{n}-{mp[len(mp)//2][1]}.json"))
 print(f"  median MPI run: rounds {d['rounds']}")
