@@ -12,7 +12,7 @@
  * asked rank of the ascending order, for any input order and any duplicates.
  *
  * A round's first pass (NOTES.md E70): kpar_slab_cuts_on cuts the asked axis even when another
- * is wider; kpar_crossing counts, of every stride-th slot, the live finite tets not of one
+ * is wider; kpar_slabs_at splits at given cuts only when every slab holds np / (2T); kpar_crossing counts, of every stride-th slot, the live finite tets not of one
  * colour under the given colours and under each axis's slabs (dead and ghost slots skipped),
  * as a brute-force count does; kpar_first_axis takes the axis of the fewest crossings only
  * when it is below 3/4 of the colours' count.
@@ -209,6 +209,35 @@ static void test_cuts_on_a_given_axis_are_its_ranks(void)
     free(pts);
 }
 
+/* kpar_slabs_at: given cuts split like kpar_slab_split when balanced, else nothing changes. */
+static void test_given_cuts_split_only_when_balanced(void)
+{
+    enum { N = 4000 };
+    tu_rng r = {91};
+    double *v = malloc(3 * N * sizeof *v);
+    uint32_t *pts = malloc(N * sizeof *pts), *tmp = malloc(N * sizeof *tmp);
+    make_points(v, N, 0, 1, &r);
+    for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)(N - 1 - i);
+    size_t begin[256], end[256];
+    kpar_slab_cuts s = {.axis = 1, .nth = 2};
+    s.cut[1] = 1.4;  /* y in [-1.5, 1.5): about 1/30 of the points above */
+    TEST_CHECK(!kpar_slabs_at(v, pts, N, &s, tmp, begin, end), "unbalanced cuts accepted");
+    for (size_t i = 0; i < N; i++)
+        TEST_CHECK(pts[i] == N - 1 - i, "refused, but pts changed at %zu", i);
+    s.cut[1] = 0.1;
+    TEST_CHECK(kpar_slabs_at(v, pts, N, &s, tmp, begin, end), "balanced cuts refused");
+    TEST_CHECK(begin[0] == 0 && end[0] == begin[1] && end[1] == N, "slices [%zu,%zu) [%zu,%zu)",
+               begin[0], end[0], begin[1], end[1]);
+    for (int k = 0; k < 2; k++)
+        for (size_t i = begin[k]; i < end[k]; i++) {
+            TEST_CHECK(kpar_slab_of(v[3 * (size_t)pts[i] + 1], &s) == k, "point %zu not in slab %d", i, k);
+            TEST_CHECK(i == begin[k] || pts[i] < pts[i - 1], "slab %d lost the order at %zu", k, i);
+        }
+    free(v);
+    free(pts);
+    free(tmp);
+}
+
 static void test_crossing_counts_match_a_brute_force_count(void)
 {
     enum { NV = 400, NT = 3000 };
@@ -281,6 +310,7 @@ int main(void)
     TU_RUN(test_slabs_colour_their_points_and_keep_the_order);
     TU_RUN(test_too_few_points_or_one_thread_are_refused);
     TU_RUN(test_cuts_on_a_given_axis_are_its_ranks);
+    TU_RUN(test_given_cuts_split_only_when_balanced);
     TU_RUN(test_crossing_counts_match_a_brute_force_count);
     TU_RUN(test_the_first_pass_takes_slabs_only_for_a_clear_gain);
     return tu_finish();

@@ -235,18 +235,24 @@ static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, uint32_t c
 }
 
 /* A pass's slabs and colours (O1): slabs between median planes across `axis`, or the pending
- * points' widest axis (-1) (slabs.c, NOTES.md E40); 0 when the coordinates do not allow balanced slabs (the
- * caller then cuts on keys).  The np doubles of scratch are the radix scratch P->tk (malloc'ed
+ * points' widest axis (-1) (slabs.c, NOTES.md E40), or at the `given` cuts (a sample's, E70);
+ * 0, with nothing changed, when the coordinates do not allow balanced slabs (the caller then
+ * cuts on keys).  The np doubles of scratch are the radix scratch P->tk (malloc'ed
  * for the round's pending points, 8 bytes each, >= np; unused by a pass that cuts slabs): no
  * allocation in the pass, and the memory guard's count of the round's arrays holds. */
 static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, int axis,
-                      size_t begin[], size_t end[])
+                      const kpar_slab_cuts *given, size_t begin[], size_t end[])
 {
     const kmesh *m = P->m;
     kpar_slab_cuts s;
     double *scratch = (double *)(void *)P->tk;  /* allocated storage: its type is the last store's */
-    if (!kpar_slab_cuts_on(m->v, pts, np, nth, axis, scratch, &s)) return 0;
-    kpar_slab_split(m->v, pts, np, &s, P->ti, begin, end);
+    if (given) {
+        if (!kpar_slabs_at(m->v, pts, np, given, P->ti, begin, end)) return 0;
+        s = *given;
+    } else {
+        if (!kpar_slab_cuts_on(m->v, pts, np, nth, axis, scratch, &s)) return 0;
+        kpar_slab_split(m->v, pts, np, &s, P->ti, begin, end);
+    }
     uint8_t *col = P->colour;
 #pragma omp parallel for num_threads(nth) schedule(static)
     for (size_t v = 0; v < nmesh; v++) col[v] = (uint8_t)kpar_slab_of(m->v[3 * v + s.axis], &s);
@@ -258,7 +264,8 @@ static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, 
  * kpar_first_axis in slabs.c, NOTES.md E70); else -1: keep the Moore slices (E12, E21).  The
  * candidates' cuts are taken on every (np / SLAB_SAMPLE + 1)-th pending point, in the scratch
  * P->ti, P->tk (free after the Moore cut); only every CROSS_STRIDE-th tet slot is looked at.
- * Deterministic, like everything the partition reads. */
+ * Deterministic, like everything the partition reads.  *chosen: the chosen axis's cuts (the
+ * sample's quantiles: within ~1/256 of the median, no selection over all np points). */
 #define SLAB_SAMPLE 65536
 #define CROSS_STRIDE 8
 /* Which tets a stride samples must not depend on the threads' timing: a parallel pass's fresh
@@ -266,7 +273,8 @@ static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, 
  * order the threads get there, so a tet's slot moves by whole blocks between runs, and keeps
  * its residue modulo the stride (free lists are per thread and filled in its own order). */
 _Static_assert(KM_SLOT_BLOCK % CROSS_STRIDE == 0, "the crossing sample must not depend on timing");
-static int first_pass_axis(kpar *P, const uint32_t *pts, size_t np, int nth)
+static int first_pass_axis(kpar *P, const uint32_t *pts, size_t np, int nth,
+                           kpar_slab_cuts *chosen)
 {
     const size_t stride = np / SLAB_SAMPLE + 1;
     size_t ns = 0;
@@ -277,7 +285,9 @@ static int first_pass_axis(kpar *P, const uint32_t *pts, size_t np, int nth)
             return -1;
     size_t cross[4];
     kpar_crossing(P->m->tv, P->m->nt, CROSS_STRIDE, P->m->v, P->colour, s, nth, cross);
-    return kpar_first_axis(cross);
+    const int axis = kpar_first_axis(cross);
+    if (axis >= 0) *chosen = s[axis];
+    return axis;
 }
 
 /* The slices and colours of a pass (O1): thread k's slice is pts[begin[k] .. end[k]), and the
@@ -292,7 +302,7 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
                            unsigned pass, size_t begin[], size_t end[])
 {
     kmesh *m = P->m;
-    if (pass > 0 && pass_slabs(P, pts, np, nmesh, nth, -1, begin, end)) {
+    if (pass > 0 && pass_slabs(P, pts, np, nmesh, nth, -1, NULL, begin, end)) {
         for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */
             for (size_t i = begin[k]; i < end[k]; i++) GTET_DEBUG_ASSERT(P->colour[pts[i]] == k);
         return;
@@ -334,9 +344,9 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
     for (size_t v = 0; v < nmesh; v++) {
         col[v] = (uint8_t)kpar_colour_of((keys[v] << sh) & KPAR_KEY_MASK, rel, bound0, nth);
     }
-    int axis;
-    if (pass == 0 && (axis = first_pass_axis(P, pts, np, nth)) >= 0 &&
-        pass_slabs(P, pts, np, nmesh, nth, axis, begin, end))
+    kpar_slab_cuts chosen;  /* the sample's cuts: balanced enough, and no select over np */
+    if (pass == 0 && first_pass_axis(P, pts, np, nth, &chosen) >= 0 &&
+        pass_slabs(P, pts, np, nmesh, nth, chosen.axis, &chosen, begin, end))
         P->cuts.nth = 0;  /* no Moore ranges for the retry's E20 cuts (it falls back) */
     for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */
         for (size_t i = begin[k]; i < end[k]; i++) GTET_DEBUG_ASSERT(col[pts[i]] == k);

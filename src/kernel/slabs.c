@@ -88,6 +88,16 @@ static double middle_spread(const double *v, const uint32_t *pts, size_t np, int
     return x3 - x1;
 }
 
+/* Every slab of s holds at least np / (2 nth) of the points. */
+static int balanced(const double *v, const uint32_t *pts, size_t np, const kpar_slab_cuts *s)
+{
+    size_t cnt[256] = {0};
+    for (size_t i = 0; i < np; i++) cnt[kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s)]++;
+    for (int k = 0; k < s->nth; k++)
+        if (cnt[k] < np / (2 * (size_t)s->nth)) return 0;
+    return 1;
+}
+
 int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, int axis,
                       double *scratch, kpar_slab_cuts *out)
 {
@@ -107,11 +117,17 @@ int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, 
         s.cut[k] = kpar_select(scratch + done, np - done, r - done);
         done = r;
     }
-    size_t cnt[256] = {0};
-    for (size_t i = 0; i < np; i++) cnt[kpar_slab_of(v[3 * (size_t)pts[i] + axis], &s)]++;
-    for (int k = 0; k < nth; k++)
-        if (cnt[k] < np / (2 * (size_t)nth)) return 0;
+    if (!balanced(v, pts, np, &s)) return 0;
     *out = s;
+    return 1;
+}
+
+int kpar_slabs_at(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                  uint32_t *tmp, size_t begin[], size_t end[])
+{
+    if (s->nth < 2 || s->nth > 256 || s->axis < 0 || s->axis > 2 || !balanced(v, pts, np, s))
+        return 0;
+    kpar_slab_split(v, pts, np, s, tmp, begin, end);
     return 1;
 }
 

@@ -45,6 +45,11 @@ int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, 
 void kpar_slab_split(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
                      uint32_t *tmp, size_t begin[], size_t end[]);
 
+/* kpar_slab_split with given cuts s (e.g. from a sample of the points), when every slab then
+ * holds at least np / (2 s->nth) points; else 0, with nothing changed. */
+int kpar_slabs_at(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                  uint32_t *tmp, size_t begin[], size_t end[]);
+
 /* Of every stride-th tet slot t < nt of tv (4 vertex ids a slot, kmesh.h: a dead slot, with
  * KM_DEAD in its first id, and a ghost, KM_GHOST 4th, are skipped), the tets whose four vertices
  * do not all have one colour: cross[0] under the colours col[] (a round's Moore slices),
