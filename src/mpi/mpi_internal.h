@@ -108,6 +108,8 @@ typedef struct grid {
     uint32_t *start;            /* cells + 1 */
     uint32_t *idx;              /* tile point indices by cell (the identity: R->tile is
                                    stored in cell order) */
+    float *cb;                  /* per cell: its points' bounding box lo[3], hi[3], rounded
+                                   outward (a ball's answer skips the cells it misses) */
 } grid;
 #define GB 4
 

@@ -61,6 +61,7 @@ static void run_free(run *R)
     free(R->sent.k);
     free(R->gr.start);
     free(R->gr.idx);
+    free(R->gr.cb);
     free(R->prev);
     gtet_mesh_free(&R->mesh);
     free(R->ptv);
