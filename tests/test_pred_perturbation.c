@@ -16,7 +16,8 @@
  *   - the lattice path (perturbation from the filter's minors) and the integer path (from the
  *     small-integer stage's minors, pred_static.int23) answer as the general rule;
  *   - on small integers the filter's record, where it claims an exact evaluation, agrees with
- *     the integer stage (sign and minors), inside and across the bound PRED_IS_INT_EXACT.
+ *     the integer stage (sign and minors), inside and across the bound PRED_IS_INT_EXACT;
+ *   - the ranking of small integers by an integer key at the ends of their range.
  */
 #include "oracle/oracle.h"
 #include "pred/pred_internal.h"
@@ -555,6 +556,61 @@ static void test_exact_filter_record_on_small_integers_matches_the_integer_stage
     TEST_CHECK(bad == 0, "%ld disagreements with the integer stage or the general rule", bad);
 }
 
+/* The ranking on small integers (sos.c lex_top2_int23, NOTES.md E91): 5 corners of boxes whose
+ * sides reach the ends of int23's range (coordinates +-(2^23 - 1)) on some axes and are 1 or 2
+ * units on the others (every tuple co-spherical, so the perturbation ranks them), in every
+ * choice of e and both orientations: the kernel's answer (pred_insphere_sos_rest on an int23
+ * set) must equal the general pred_insphere_sos, whose ranks compare coordinates.  A weight
+ * below 2^24 for x in the ranking key (or a reversed z) fails it. */
+static void test_int23_ranking_at_the_largest_coordinates_matches_the_general_rule(void)
+{
+    const double L = 0x1p23 - 1;
+    double box[2][3] = {{-L, -L, -L}, {L, L, L}};
+    pred_static ps;
+    pred_static_init(&box[0][0], 3, 2, &ps);
+    TEST_REQUIRE(ps.int23 && !ps.is_exact, "the set [-(2^23-1), 2^23-1]^3 is not called int23");
+    long zeros = 0, bad = 0;
+    for (int wide = 1; wide < 7; wide++)      /* the axes whose side spans the whole range */
+        for (int small = 1; small <= 2; small++)
+            for (int pick = 0; pick < 256; pick++) {
+                if (__builtin_popcount((unsigned)pick) != 5) continue;
+                double q[5][3];
+                for (int c = 0, i = 0; c < 8; c++) {
+                    if (!(pick >> c & 1)) continue;
+                    for (int j = 0; j < 3; j++) {
+                        const int hi = c >> j & 1;
+                        q[i][j] = wide >> j & 1 ? (hi ? L : -L) : (hi ? 5 + small : 5);
+                    }
+                    i++;
+                }
+                for (int e = 0; e < 5; e++)
+                    for (int swap = 0; swap < 2; swap++) {
+                        const double *v[5];
+                        for (int i = 0, o = 0; i < 5; i++)
+                            if (i != e) v[o++] = q[i];
+                        v[4] = q[e];
+                        if (swap) {
+                            const double *t = v[0];
+                            v[0] = v[1];
+                            v[1] = t;
+                        }
+                        gtet_pred_counters k_cnt;
+                        memset(&k_cnt, 0, sizeof k_cnt);
+                        if (pred_orient3d(v[0], v[1], v[2], v[3], &k_cnt) == 0) continue;
+                        double mn[PRED_IS_NMINORS];
+                        const int f =
+                            pred_insphere_filter(v[0], v[1], v[2], v[3], v[4], ps.is_seps, mn);
+                        const int ref = pred_insphere_sos(v[0], v[1], v[2], v[3], v[4], &k_cnt);
+                        const int got = f ? f : pred_insphere_sos_rest(v[0], v[1], v[2], v[3],
+                                                                       v[4], &ps, mn, &k_cnt);
+                        zeros += f == 0;
+                        bad += got != ref;
+                    }
+            }
+    TEST_CHECK(zeros > 1000, "only %ld co-spherical tuples", zeros);
+    TEST_CHECK(bad == 0, "%ld disagreements between the int23 ranking and the general rule", bad);
+}
+
 int main(void)
 {
     TU_RUN(test_insphere_sos_hand_checked_cube_cases);
@@ -566,6 +622,7 @@ int main(void)
     TU_RUN(test_lattice_ranking_at_the_largest_extent_matches_the_general_rule);
     TU_RUN(test_integer_perturbation_from_minors_matches_the_general_rule);
     TU_RUN(test_exact_filter_record_on_small_integers_matches_the_integer_stage);
+    TU_RUN(test_int23_ranking_at_the_largest_coordinates_matches_the_general_rule);
     printf("sos decisions %llu (depth %llu %llu %llu %llu)\n", (unsigned long long)cnt.sos_calls,
            (unsigned long long)cnt.sos_depth[0], (unsigned long long)cnt.sos_depth[1],
            (unsigned long long)cnt.sos_depth[2], (unsigned long long)cnt.sos_depth[3]);

@@ -217,6 +217,34 @@ static void lex_top2_lattice(const double *const *p, int *i1, int *i2)
     *i2 = b;
 }
 
+/* The same two ranks on a set of integers below 2^23 in magnitude (pred_static.int23): the
+ * lexicographic order of p is that of the pairs (k(p), z(p)), k(p) = x(p) 2^24 + y(p) as an
+ * exact int64 (|k| < 2^47 + 2^23): if x(p) > x(q) then k(p) - k(q) >= 2^24 - |y(p) - y(q)| >
+ * 0, as |y(p) - y(q)| < 2^24; else k's order is y's.  -0.0 converts to 0 and compares equal
+ * to +0.0, as in pred_lex_cmp.  Two integer compares and one double compare a pair instead of
+ * three coordinate compares (NOTES.md E91). */
+static void lex_top2_int23(const double *const *p, int *i1, int *i2)
+{
+    int64_t k[5];
+    double z[5];
+    for (int i = 0; i < 5; i++) {
+        k[i] = (int64_t)p[i][0] * ((int64_t)1 << 24) + (int64_t)p[i][1];
+        z[i] = p[i][2];
+    }
+#define LEX_OVER(i, j) (k[i] > k[j] || (k[i] == k[j] && z[i] > z[j]))
+    const int first = !LEX_OVER(0, 1);
+    int a = first, b = 1 - first;
+    for (int i = 2; i < 5; i++) {
+        const int over_a = LEX_OVER(i, a);
+        const int over_b = LEX_OVER(i, b);
+        b = over_a ? a : over_b ? i : b;
+        a = over_a ? i : a;
+    }
+#undef LEX_OVER
+    *i1 = a;
+    *i2 = b;
+}
+
 /* orient3d of (a,b,c,d) with point k replaced by e, from the exact minors of the translated
  * points A = a-e, ..., D = d-e (abc = det[A;B;C], bcd = det[B;C;D], cda = det[C;D;A],
  * dab = det[D;A;B]): orient3d(e,b,c,d) = bcd, orient3d(a,e,c,d) = -cda, orient3d(a,b,e,d) =
@@ -268,6 +296,8 @@ static int insphere_perturbed(const double *a, const double *b, const double *c,
     int top[2];
     if (mn && ps->is_exact)
         lex_top2_lattice(p, &top[0], &top[1]);
+    else if (ps->int23)
+        lex_top2_int23(p, &top[0], &top[1]);
     else
         lex_top2(p, &top[0], &top[1]);
     for (int i = 0; i < 2; i++) {
