@@ -186,7 +186,18 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res); /* 7: owned tets, neig
 
 /* query geometry and answers (mpi_query.c, proofs/distributed.md D4) */
 void mx_tet_ball(const double *a, const double *b, const double *cc, const double *d, ball *B);
-int mx_ball_meets_box(const ball *B, const double *box);
+/* does the conservative ball meet the box (lo[3], hi[3])?  Inlined: the answers call it for
+ * every cell a ball's range covers (mpi_query.c, NOTES E81) */
+static inline int mx_ball_meets_box(const ball *B, const double *box)
+{
+    if (B->all) return 1;
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = mx_max(box[k] - B->c[k], mx_max(0.0, B->c[k] - box[3 + k]));
+        d2 += e * e;
+    }
+    return sqrt(d2) <= B->r * (1 + 1e-9);
+}
 /* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box? */
 int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
                            const double *box);

@@ -51,16 +51,6 @@ void mx_tet_ball(const double *a, const double *b, const double *cc, const doubl
     B->all = 0;
 }
 
-int mx_ball_meets_box(const ball *B, const double *box)
-{
-    if (B->all) return 1;
-    double d2 = 0;
-    for (int k = 0; k < 3; k++) {
-        double e = mx_max(box[k] - B->c[k], mx_max(0.0, B->c[k] - box[3 + k]));
-        d2 += e * e;
-    }
-    return sqrt(d2) <= B->r * (1 + 1e-9);
-}
 
 /* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box?  (an affine
  * function is largest at a corner) */
