@@ -25,13 +25,6 @@
 #include "canon.h"
 #include "testutil.h"
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define GTET_TEST_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define GTET_TEST_SANITIZED 1
-#endif
-#endif
 #ifdef GTET_TEST_SANITIZED
 enum { N_RANDOM = 40000, GRID_K = 24, SPHERE_M = 3003 };
 static const int THREADS[] = {1, 2, 3, 4};

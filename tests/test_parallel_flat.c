@@ -23,13 +23,6 @@
 #include "gigatet.h"
 #include "testutil.h"
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define GTET_TEST_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define GTET_TEST_SANITIZED 1
-#endif
-#endif
 #ifdef GTET_TEST_SANITIZED
 enum { N = 40000 };
 #else

@@ -248,6 +248,17 @@ static void test_ghost_conflict_at_extreme_scales_matches_oracle(void)
     }
 }
 
+/* The five points are distinct and the first four span a tet (counters zeroed first): the
+ * tuples the insphere tests below compare, as the kernel only ever asks those. */
+static int usable_tuple(double q[5][3], gtet_pred_counters *k_cnt)
+{
+    for (int i = 0; i < 5; i++)
+        for (int k = 0; k < i; k++)
+            if (pred_lex_cmp(q[i], q[k]) == 0) return 0;
+    memset(k_cnt, 0, sizeof *k_cnt);
+    return pred_orient3d(q[0], q[1], q[2], q[3], k_cnt) != 0;
+}
+
 /* The lattice path (proofs/filters.md section 9; sos.c orient_from_minors): on a small
  * lattice the kernel decides a zero insphere from the filter's exact minors instead of calling
  * orient3d.  For tuples of a 7^3 grid (many exact zeros, every perturbation step taken) it must
@@ -265,12 +276,8 @@ static void test_lattice_perturbation_from_minors_matches_the_general_rule(void)
         double q[5][3];
         for (int i = 0; i < 5; i++)
             for (int j = 0; j < 3; j++) q[i][j] = (double)tu_below(&r, 7);
-        int distinct = 1;
-        for (int i = 0; i < 5; i++)
-            for (int k = 0; k < i; k++) distinct &= pred_lex_cmp(q[i], q[k]) != 0;
         gtet_pred_counters k_cnt;
-        memset(&k_cnt, 0, sizeof k_cnt);
-        if (!distinct || pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
+        if (!usable_tuple(q, &k_cnt)) continue;
         double mn[PRED_IS_NMINORS];
         const int f = pred_insphere_filter(q[0], q[1], q[2], q[3], q[4], ps.is_seps, mn);
         const int ref = pred_insphere_sos(q[0], q[1], q[2], q[3], q[4], &k_cnt);
@@ -340,12 +347,8 @@ static void test_integer_perturbation_from_minors_matches_the_general_rule(void)
                 q[i][2] = o[2] + k * k * (x * x + y * y);
             }
         }
-        int distinct = 1;
-        for (int i = 0; i < 5; i++)
-            for (int m = 0; m < i; m++) distinct &= pred_lex_cmp(q[i], q[m]) != 0;
         gtet_pred_counters k_cnt;
-        memset(&k_cnt, 0, sizeof k_cnt);
-        if (!distinct || pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
+        if (!usable_tuple(q, &k_cnt)) continue;
         for (int swap = 0; swap < 2; swap++) {
             const double *v[5] = {q[swap], q[1 - swap], q[2], q[3], q[4]};
             const int f = pred_insphere_filter(v[0], v[1], v[2], v[3], v[4], ps.is_seps, NULL);
@@ -517,12 +520,8 @@ static void test_exact_filter_record_on_small_integers_matches_the_integer_stage
             q[i][1] = o[1] + k * y;
             q[i][2] = o[2] + k * k * (x * x + y * y);
         }
-        int distinct = 1;
-        for (int i = 0; i < 5; i++)
-            for (int m = 0; m < i; m++) distinct &= pred_lex_cmp(q[i], q[m]) != 0;
         gtet_pred_counters k_cnt;
-        memset(&k_cnt, 0, sizeof k_cnt);
-        if (!distinct || pred_orient3d(q[0], q[1], q[2], q[3], &k_cnt) == 0) continue;
+        if (!usable_tuple(q, &k_cnt)) continue;
         double mn[PRED_IS_NMINORS];
         const int f = pred_insphere_filter(q[0], q[1], q[2], q[3], q[4], ps.is_seps, mn);
         const int ref = pred_insphere_sos(q[0], q[1], q[2], q[3], q[4], &k_cnt);

@@ -25,6 +25,16 @@ int tu_finish(void);
     do { if (!(cond)) { tu_fail(__FILE__, __LINE__, __VA_ARGS__); return; } } while (0)
 #define TU_RUN(fn) tu_run(#fn, fn)
 
+/* GTET_TEST_SANITIZED: built with ASan or TSan (gcc's macros, clang's __has_feature), where a
+ * test runs a smaller problem so that the sanitized CI job stays within its time. */
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define GTET_TEST_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define GTET_TEST_SANITIZED 1
+#endif
+#endif
+
 typedef struct tu_rng { uint64_t s; } tu_rng;
 static inline uint64_t tu_next(tu_rng *r)
 {
