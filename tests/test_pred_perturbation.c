@@ -301,6 +301,16 @@ static void test_lattice_perturbation_from_minors_matches_the_general_rule(void)
     TEST_CHECK(bad == 0, "%ld disagreements between the lattice path and the general rule", bad);
 }
 
+/* ps for the widest set of integers below 2^23, (-2^23, 2^23)^3: 1 when it is int23 and not
+ * a lattice (the small-integer paths' precondition). */
+static int int23_static(pred_static *ps)
+{
+    const double L = 0x1p23;
+    double box[2][3] = {{-L + 1, -L + 1, -L + 1}, {L - 1, L - 1, L - 1}};
+    pred_static_init(&box[0][0], 3, 2, ps);
+    return ps->int23 && !ps->is_exact;
+}
+
 /* The integer path (NOTES.md E30; sos.c pred_insphere_sos_rest_log): on a set of integers below
  * 2^23 (pred_static.int23) too wide for the lattice path, the kernel decides a filtered-out
  * insphere in the small-integer stage without its range checks and, on a zero, reads the
@@ -312,11 +322,9 @@ static void test_lattice_perturbation_from_minors_matches_the_general_rule(void)
 static void test_integer_perturbation_from_minors_matches_the_general_rule(void)
 {
     tu_rng r = {23};
-    const double L = 0x1p23;
-    double box[2][3] = {{-L + 1, -L + 1, -L + 1}, {L - 1, L - 1, L - 1}};
     pred_static ps;
-    pred_static_init(&box[0][0], 3, 2, &ps);
-    TEST_REQUIRE(ps.int23 && !ps.is_exact, "the set (-2^23, 2^23)^3 is not called int23");
+    TEST_REQUIRE(int23_static(&ps), "the set (-2^23, 2^23)^3 is not called int23");
+    const double L = 0x1p23;
     double out[2][3] = {{0, 0, 0}, {L, 1, 1}};  /* 2^23 itself: outside the bound */
     pred_static po;
     pred_static_init(&out[0][0], 3, 2, &po);
@@ -490,11 +498,8 @@ static pred_i128 insphere_filter_peak(double q[5][3])
 static void test_exact_filter_record_on_small_integers_matches_the_integer_stage(void)
 {
     tu_rng r = {46};
-    const double L = 0x1p23;
-    double box[2][3] = {{-L + 1, -L + 1, -L + 1}, {L - 1, L - 1, L - 1}};
     pred_static ps;
-    pred_static_init(&box[0][0], 3, 2, &ps);
-    TEST_REQUIRE(ps.int23 && !ps.is_exact, "the set (-2^23, 2^23)^3 is not called int23");
+    TEST_REQUIRE(int23_static(&ps), "the set (-2^23, 2^23)^3 is not called int23");
     /* 12 lattice points on each of the circles x^2 + y^2 = 25, 50, 65 */
     static const int circle[3][12][2] = {
         {{5, 0}, {-5, 0}, {0, 5}, {0, -5}, {3, 4}, {-3, 4}, {3, -4}, {-3, -4}, {4, 3}, {-4, 3},
