@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mesh/mesh.h"
 #include "mpi/mpi_internal.h"
 
 /* ------------------------------------------------------------------------------------------ */
@@ -47,12 +48,36 @@ static gtet_status s_add_received(run *R, const mpt *rb, const size_t *rcnt, uin
     return GTET_OK;
 }
 
+/* The kernel allocates a mesh's tet array and then its neighbour array, and shrinks both to
+ * the live tets at the end (src/kernel/kmesh.c, finalize.c), so with glibc's heap (gigatet-mpi
+ * keeps freed memory there: cli_mpi.c) the neighbour array's block usually starts a few MB
+ * after the tet array's end, that tail free.  The tet array is grown into it at once, before
+ * anything else can take it: the output later frees the neighbour array and grows the tet
+ * array over both blocks in place (mpi_output.c: widen_both, NOTES.md E120).  Only when the
+ * two blocks are that close; plain realloc (a failure keeps the array as it was: nothing but
+ * speed depends on this). */
+void mx_claim_gap(run *R)
+{
+    struct gtet_mesh *M = R->mesh;
+    R->tvcap = M ? M->n_tets : 0;
+    if (!M || !M->tets || !M->neighbors) return;
+    uintptr_t a = (uintptr_t)M->tets, b = (uintptr_t)M->neighbors;
+    size_t used = 4 * M->n_tets * sizeof *M->tets;
+    if (b <= a || b - a < used + 16 || b - a - used > used / 8 + ((size_t)8 << 20)) return;
+    size_t room = (size_t)(b - a) - 8;   /* glibc: the block then ends where ptn's begins */
+    uint32_t *t = realloc(M->tets, room);
+    if (!t) return;
+    M->tets = t;
+    R->tvcap = room / (4 * sizeof *t);
+}
+
 static gtet_status triangulate_local(run *R)
 {
     gtet_mesh_free(&R->mesh);
     free(R->ptv);
     free(R->ptn);
     R->ptv = R->ptn = NULL;
+    R->tvcap = 0;
     R->qfrom = 0;   /* every tet is this round's */
     if (R->m == 0) return GTET_OK;
     for (int attempt = 0; attempt < 2; attempt++) {
@@ -75,6 +100,7 @@ static gtet_status triangulate_local(run *R)
         if (s != GTET_OK)
             return mx_fail(&R->c, s, "rank %d: local triangulation of %zu points: %s", R->c.rank,
                            R->ns, e.message);
+        mx_claim_gap(R);
         size_t nv = gtet_mesh_num_vertices(R->mesh);
         const uint32_t *map = gtet_mesh_input_map(R->mesh);
         if (nv != R->ns)

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mesh/mesh.h"
 #include "mpi/mpi_internal.h"
 
 typedef struct frec {
@@ -47,118 +48,137 @@ static int sort_by_id(mpt *a, size_t n)
 
 #define NOLID UINT32_MAX
 
-gtet_status mx_step_output(run *R, gtet_mpi_result *res)
+/* Step 7 writes its result over the local mesh (NOTES.md E120).  The owned tets' rows are
+ * first moved down in place in both uint32 arrays (row o of owned tet t, o <= t: a row is read
+ * before any later row lands on it): vertex ids stay local, a neighbour becomes its owned index
+ * (NOLID: the hull, or a facet the matching fills in).  Then each array is widened to its 64-bit
+ * result, back to front, so row o's 32 bytes land at or above where its 16 bytes were read.  The
+ * array at the higher address is widened into fresh memory and freed; the lower one then grows
+ * with realloc into what that freed (glibc's chunks coalesce; on this VM memory first touched
+ * costs 0.16-7.6 s a GiB, NOTES.md Q14) and is widened where it lies: 32 B an owned tet fresh
+ * where writing both results fresh took 64. */
+typedef struct outx {
+    uint32_t *lid;      /* local tet -> owned index, or NOLID */
+    const uint64_t *vid;/* local vertex -> global id */
+    uint8_t *used;      /* local vertex used by an owned tet */
+    vec fr, slot;       /* facets to match across ranks; where their answer goes */
+} outx;
+
+/* owned tet t (index o): its neighbours encoded into row o of nb (the owned index across, or
+ * NOLID), a facet record for each one decided elsewhere, its vertices marked used; then its
+ * vertex row moved to row o of tv.  -1 out of memory */
+static int compact_tet(const run *R, outx *X, uint32_t *tv, uint32_t *nb, size_t t, uint64_t off)
 {
-    mctx *c = &R->c;
-    int P = c->size, me = c->rank;
+    size_t m = R->m, o = X->lid[t];
+    uint32_t v[4], n[4];
+    memcpy(v, tv + 4 * t, sizeof v);
+    memcpy(n, nb + 4 * t, sizeof n);
+    for (int f = 0; f < 4; f++) {
+        X->used[v[f]] = 1;
+        uint32_t u = n[f];
+        int tilev = 0;
+        for (int i = 0; i < 4; i++)
+            if (i != f && v[i] < m) tilev = 1;
+        if (u != GTET_NO_TET && X->lid[u] != NOLID) {
+            nb[4 * o + (size_t)f] = X->lid[u];        /* both owned here: final (D7) */
+        } else {
+            nb[4 * o + (size_t)f] = NOLID;            /* a certified hull facet, or ... */
+            if (u == GTET_NO_TET && tilev) continue;
+            frec *r = mx_vec_push(&X->fr);            /* ... matched across ranks */
+            uint64_t *sl = mx_vec_push(&X->slot);
+            if (!r || !sl) return -1;
+            uint64_t k4[4] = {0, 0, 0, 0};
+            int j = 1;
+            for (int i = 0; i < 4; i++)
+                if (i != f) k4[j++] = X->vid[v[i]];
+            mx_sort4(k4);
+            memcpy(r->key, k4 + 1, sizeof r->key);
+            r->tet = off + o;
+            *sl = 4 * o + (size_t)f;
+        }
+    }
+    memcpy(tv + 4 * o, v, sizeof v);
+    return 0;
+}
+
+/* dst[4o + i] (64-bit) from src[4o + i] (uint32), o from own - 1 down to 0: dst may be src
+ * itself (32 bytes a row written at or above the 16 read; through memcpy, as the same bytes are
+ * read as uint32 and written as uint64) or separate.  Vertices: their global ids; neighbours:
+ * off + owned index, or GTET_MPI_NO_TET */
+static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, uint64_t off)
+{
+    unsigned char *d = dst;
+    const unsigned char *s = src;
+    for (size_t k = 4 * own; k-- > 0;) {
+        uint32_t x;
+        memcpy(&x, s + 4 * k, sizeof x);
+        uint64_t y = vid ? vid[x] : x == NOLID ? GTET_MPI_NO_TET : off + x;
+        memcpy(d + 8 * k, &y, sizeof y);
+    }
+}
+
+/* the result's tets and neighbours from the compacted rows (see above); R->ptv, R->ptn are
+ * handed over (NULL after).  -1 out of memory (R's arrays then still R's) */
+static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid)
+{
+    size_t own = res->num_tets, bytes = (4 * own + 1) * sizeof(uint64_t);
+    int tv_low = (uintptr_t)R->ptv < (uintptr_t)R->ptn;
+    uint32_t **low = tv_low ? &R->ptv : &R->ptn, **high = tv_low ? &R->ptn : &R->ptv;
+    uint64_t **rlow = tv_low ? &res->tets : &res->neighbors;
+    uint64_t **rhigh = tv_low ? &res->neighbors : &res->tets;
+    uint64_t *h = mx_malloc(bytes);
+    if (!h) return -1;
+    widen(h, *high, own, tv_low ? NULL : vid, res->tet_offset);
+    free(*high);
+    *high = NULL;
+    *rhigh = h;
+    uint64_t *l = mx_realloc(*low, bytes);
+    if (!l) return -1;
+    *low = NULL;
+    *rlow = l;
+    widen(l, l, own, tv_low ? vid : NULL, res->tet_offset);
+    return 0;
+}
+
+/* the local mesh's arrays as R->ptv, R->ptn (taken from the first round's gtet_mesh when no
+ * later round patched them); *nt tets */
+static void take_local(run *R, size_t *nt)
+{
+    if (!R->ptv && R->mesh) {
+        R->pnt = R->pcap = gtet_mesh_take_arrays(R->mesh, &R->ptv, &R->ptn);
+    }
+    gtet_mesh_free(&R->mesh);
+    *nt = R->ptv ? R->pnt : 0;
+}
+
+/* the facets decided elsewhere (X->fr): records hashed by their key to a rank, which pairs
+ * them (two records: the two tets; one: a hull facet) and answers; the answers go into
+ * res->neighbors at X->slot (D7).  Collective; the agreed status */
+static gtet_status match_facets(mctx *c, const outx *X, gtet_mpi_result *res)
+{
+    int P = c->size;
+    size_t nr = X->fr.n, mr = 0;
+    const frec *frs = (const frec *)X->fr.p;
     gtet_status s = GTET_OK;
-    size_t nt;
-    const uint32_t *tv, *nb;
-    mx_local_mesh(R, &nt, &tv, &nb);
-    size_t m = R->m;
-    /* each local tet's index among the owned ones (NOLID: not owned); 4 B, as the neighbour
-     * loop reads it at random */
-    uint32_t *lid = mx_malloc((nt + 1) * sizeof *lid);
     size_t *scnt = mx_calloc((size_t)P, sizeof *scnt), *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
     size_t *pos = mx_calloc((size_t)P + 1, sizeof *pos);
-    vec fr = {NULL, 0, 0, sizeof(frec)};
-    vec slot = {NULL, 0, 0, sizeof(uint64_t)};
-    frec *sb = NULL, *rb = NULL;
-    size_t *ord = NULL, *perm = NULL;
+    int *dst = mx_malloc((nr + 1) * sizeof *dst);
+    frec *sb = mx_malloc((nr + 1) * sizeof *sb), *rb = NULL;
+    size_t *perm = mx_malloc((nr + 1) * sizeof *perm), *ord = NULL;
     uint64_t *rep = NULL, *back = NULL;
-    /* the vertex ids of S in an array of their own: the tet loops read them at random, and
-     * 8 B per vertex stays in cache where the 32 B records do not */
-    uint64_t *vid = mx_malloc((R->ns + 1) * sizeof *vid);
-    res->tet_offsets = mx_malloc(((size_t)P + 1) * sizeof *res->tet_offsets);
-    if (!lid || !scnt || !rcnt || !pos || !vid || !res->tet_offsets)
+    if (!scnt || !rcnt || !pos || !dst || !sb || !perm)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    size_t own = 0;
-    if (s == GTET_OK)
-        for (size_t i = 0; i < R->ns; i++) vid[i] = R->sp[i].id;
-    if (s == GTET_OK)
-        for (size_t t = 0; t < nt; t++) {
-            const uint32_t *v = tv + 4 * t;
-            uint32_t lo = v[0];
-            for (int i = 1; i < 4; i++)
-                if (vid[v[i]] < vid[lo]) lo = v[i];
-            /* owned: the smallest vertex is in this tile (D6) */
-            lid[t] = lo < m ? (uint32_t)own++ : NOLID;
-        }
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
-    uint64_t mine = own;
-    MPI_Allgather(&mine, 1, MPI_UINT64_T, res->tet_offsets + 1, 1, MPI_UINT64_T, c->comm);
-    res->tet_offsets[0] = 0;
-    for (int q = 0; q < P; q++) res->tet_offsets[q + 1] += res->tet_offsets[q];
-    res->tet_offset = res->tet_offsets[me];
-    res->num_tets_global = res->tet_offsets[P];
-    res->num_tets = own;
-    /* fresh arrays (on huge pages: mx_malloc): 64 B per owned tet, as much new memory as
-     * E54's widening of the patched mesh's arrays took, now that the first round's mesh is
-     * patched in place (mpi_patch.c, NOTES E80), and no copy */
-    res->tets = mx_malloc((4 * own + 1) * sizeof *res->tets);
-    res->neighbors = mx_malloc((4 * own + 1) * sizeof *res->neighbors);
-    if (!res->tets || !res->neighbors) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-#define SET_NB(o, f, x) (res->neighbors[4 * (o) + (size_t)(f)] = (x))
-    for (size_t t = 0; t < nt && s == GTET_OK; t++) {
-        if (lid[t] == NOLID) continue;
-        size_t o = lid[t];
-        const uint32_t *v = tv + 4 * t;
-        for (int f = 0; f < 4; f++) {
-            res->tets[4 * o + (size_t)f] = vid[v[f]];
-            uint32_t u = nb[4 * t + (size_t)f];
-            int tilev = 0;
-            for (int i = 0; i < 4; i++)
-                if (i != f && v[i] < m) tilev = 1;
-            if (u != GTET_NO_TET && lid[u] != NOLID) {
-                SET_NB(o, f, res->tet_offset + lid[u]);   /* both owned here: final (D7) */
-            } else if (u == GTET_NO_TET && tilev) {
-                SET_NB(o, f, GTET_MPI_NO_TET);   /* certified hull facet */
-            } else {
-                frec *r = mx_vec_push(&fr);
-                uint64_t *sl = mx_vec_push(&slot);
-                if (!r || !sl) {
-                    s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-                    break;
-                }
-                uint64_t k4[4] = {0, 0, 0, 0};
-                int j = 1;
-                for (int i = 0; i < 4; i++)
-                    if (i != f) k4[j++] = vid[v[i]];
-                mx_sort4(k4);
-                memcpy(r->key, k4 + 1, sizeof r->key);
-                r->tet = res->tet_offset + o;
-                *sl = 4 * o + (size_t)f;
-                SET_NB(o, f, GTET_MPI_NO_TET);
-            }
-        }
-    }
-#undef SET_NB
-    if ((s = mx_agree(c, s)) != GTET_OK) goto done;
-    /* facet matching: records hashed by their key (D7) */
-    size_t nr = fr.n;
-    const frec *frs = (const frec *)fr.p;
-    int *dst = mx_malloc(nr * sizeof *dst);
-    sb = mx_malloc(nr * sizeof *sb);
-    perm = mx_malloc(nr * sizeof *perm);
-    if (!dst || !sb || !perm) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    if ((s = mx_agree(c, s)) != GTET_OK) {
-        free(dst);
-        goto done;
-    }
     for (size_t i = 0; i < nr; i++)
         dst[i] = (int)(mx_mix64(frs[i].key[0] ^ mx_mix64(frs[i].key[1] ^ mx_mix64(frs[i].key[2]))) %
                        (uint64_t)P);
     mx_rank_order(dst, nr, P, scnt, pos, perm);
     for (size_t k = 0; k < nr; k++) sb[k] = frs[perm[k]];
-    free(dst);
-    size_t mr;
-    {
-        void *r;
-        if ((s = mx_exchange(c, sb, scnt, sizeof(frec), &r, rcnt, &mr, 0)) != GTET_OK) goto done;
-        rb = r;
-    }
-    ord = mx_malloc(mr * sizeof *ord);
-    rep = mx_malloc(mr * sizeof *rep);
+    void *r;
+    if ((s = mx_exchange(c, sb, scnt, sizeof(frec), &r, rcnt, &mr, 0)) != GTET_OK) goto done;
+    rb = r;
+    ord = mx_malloc((mr + 1) * sizeof *ord);
+    rep = mx_malloc((mr + 1) * sizeof *rep);
     if (!ord || !rep) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
     for (size_t k = 0; k < mr; k++) ord[k] = k;
@@ -181,54 +201,55 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
         a = b;
     }
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
-    {
-        void *r;
-        size_t tot;
-        if ((s = mx_exchange(c, rep, rcnt, sizeof(uint64_t), &r, scnt, &tot, 0)) != GTET_OK)
-            goto done;
-        back = r;
-    }
-    const uint64_t *sls = (const uint64_t *)slot.p;
+    size_t tot;
+    if ((s = mx_exchange(c, rep, rcnt, sizeof(uint64_t), &r, scnt, &tot, 0)) != GTET_OK)
+        goto done;
+    back = r;
+    const uint64_t *sls = (const uint64_t *)X->slot.p;
     uint64_t hull = 0, ghull = 0;
     for (size_t k = 0; k < nr; k++) res->neighbors[sls[perm[k]]] = back[k];
-    for (size_t i = 0; i < 4 * own; i++) hull += res->neighbors[i] == GTET_MPI_NO_TET;
+    for (size_t i = 0; i < 4 * res->num_tets; i++) hull += res->neighbors[i] == GTET_MPI_NO_TET;
     MPI_Allreduce(&hull, &ghull, 1, MPI_UINT64_T, MPI_SUM, c->comm);
     res->num_hull_facets = ghull;
-    /* the tile's vertices and the vertices the owned tets use */
+done:
+    free(scnt);
+    free(rcnt);
+    free(pos);
+    free(dst);
+    free(sb);
+    free(rb);
+    free(ord);
+    free(perm);
+    free(rep);
+    free(back);
+    return s;
+}
+
+/* the tile's vertices and the vertices the owned tets use (used[i]: local vertex i), listed by
+ * vertex id.  Collective; the agreed status */
+static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *res)
+{
+    mctx *c = &R->c;
+    size_t m = R->m;
+    gtet_status s = GTET_OK;
     res->num_tile_vertices = m;
-    res->tile_vertex_ids = mx_malloc(m * sizeof *res->tile_vertex_ids);
-    res->tile_vertices = mx_malloc(3 * m * sizeof *res->tile_vertices);
+    res->tile_vertex_ids = mx_malloc((m + 1) * sizeof *res->tile_vertex_ids);
+    res->tile_vertices = mx_malloc((3 * m + 1) * sizeof *res->tile_vertices);
     uint64_t *used = mx_malloc((R->ns + 1) * sizeof *used);
-    if (!res->tile_vertex_ids || !res->tile_vertices || !used) {
+    mpt *lst = mx_malloc((R->ns + 1) * sizeof *lst);
+    if (!res->tile_vertex_ids || !res->tile_vertices || !used || !lst) {
         free(used);
+        free(lst);
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     }
-    if ((s = mx_agree(c, s)) != GTET_OK) goto done;
+    if ((s = mx_agree(c, s)) != GTET_OK) return s;
     for (size_t i = 0; i < m; i++) {
         res->tile_vertex_ids[i] = R->tile[i].id;
         memcpy(res->tile_vertices + 3 * i, R->tile[i].x, 3 * sizeof(double));
     }
-    /* the used vertices: marked over S, listed by vertex id */
-    uint32_t *slotof = mx_malloc((R->ns + 1) * sizeof *slotof);
-    mpt *lst = mx_malloc((R->ns + 1) * sizeof *lst);
-    if (!slotof || !lst) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    if ((s = mx_agree(c, s)) != GTET_OK) {
-        free(slotof);
-        free(lst);
-        free(used);
-        goto done;
-    }
-    memset(slotof, 0, (R->ns + 1) * sizeof *slotof);
-    for (size_t t = 0; t < nt; t++)
-        if (lid[t] != NOLID)
-            for (int i = 0; i < 4; i++) slotof[tv[4 * t + i]] = 1;
     size_t w = 0;
     for (size_t i = 0; i < R->ns; i++)
-        if (slotof[i]) {
-            lst[w] = R->sp[i];
-            lst[w].id = R->sp[i].id;
-            w++;
-        }
+        if (usedv[i]) lst[w++] = R->sp[i];
     res->num_used_vertices = w;
     res->used_vertex_ids = used;
     res->used_vertices = mx_malloc((3 * w + 1) * sizeof *res->used_vertices);
@@ -239,22 +260,65 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
             used[i] = lst[i].id;
             memcpy(res->used_vertices + 3 * i, lst[i].x, 3 * sizeof(double));
         }
-    free(slotof);
     free(lst);
-    s = mx_agree(c, s);
+    return mx_agree(c, s);
+}
+
+gtet_status mx_step_output(run *R, gtet_mpi_result *res)
+{
+    mctx *c = &R->c;
+    int P = c->size, me = c->rank;
+    gtet_status s = GTET_OK;
+    size_t nt;
+    take_local(R, &nt);
+    uint32_t *tv = R->ptv, *nb = R->ptn;
+    size_t m = R->m;
+    outx X = {NULL, NULL, NULL, {NULL, 0, 0, sizeof(frec)}, {NULL, 0, 0, sizeof(uint64_t)}};
+    /* each local tet's index among the owned ones (NOLID: not owned); 4 B, as the neighbour
+     * loop reads it at random */
+    X.lid = mx_malloc((nt + 1) * sizeof *X.lid);
+    /* the vertex ids of S in an array of their own: the tet loops read them at random, and
+     * 8 B per vertex stays in cache where the 32 B records do not */
+    uint64_t *vid = mx_malloc((R->ns + 1) * sizeof *vid);
+    X.vid = vid;
+    X.used = mx_calloc(R->ns + 1, 1);
+    res->tet_offsets = mx_malloc(((size_t)P + 1) * sizeof *res->tet_offsets);
+    if (!X.lid || !vid || !X.used || !res->tet_offsets)
+        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    size_t own = 0;
+    if (s == GTET_OK)
+        for (size_t i = 0; i < R->ns; i++) vid[i] = R->sp[i].id;
+    if (s == GTET_OK)
+        for (size_t t = 0; t < nt; t++) {
+            const uint32_t *v = tv + 4 * t;
+            uint32_t lo = v[0];
+            for (int i = 1; i < 4; i++)
+                if (vid[v[i]] < vid[lo]) lo = v[i];
+            /* owned: the smallest vertex is in this tile (D6) */
+            X.lid[t] = lo < m ? (uint32_t)own++ : NOLID;
+        }
+    if ((s = mx_agree(c, s)) != GTET_OK) goto done;
+    uint64_t mine = own;
+    MPI_Allgather(&mine, 1, MPI_UINT64_T, res->tet_offsets + 1, 1, MPI_UINT64_T, c->comm);
+    res->tet_offsets[0] = 0;
+    for (int q = 0; q < P; q++) res->tet_offsets[q + 1] += res->tet_offsets[q];
+    res->tet_offset = res->tet_offsets[me];
+    res->num_tets_global = res->tet_offsets[P];
+    res->num_tets = own;
+    for (size_t t = 0; t < nt && s == GTET_OK; t++)
+        if (X.lid[t] != NOLID && compact_tet(R, &X, tv, nb, t, res->tet_offset) != 0)
+            s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    /* the result over the local mesh's arrays, before the matching allocates anything that
+     * could take the memory the lower array grows into */
+    if (s == GTET_OK && widen_both(R, res, vid) != 0)
+        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, res);
+    if (s == GTET_OK) s = out_vertices(R, X.used, res);
 done:
     free(vid);
-    free(lid);
-    free(scnt);
-    free(rcnt);
-    free(pos);
-    free(fr.p);
-    free(slot.p);
-    free(sb);
-    free(rb);
-    free(ord);
-    free(perm);
-    free(rep);
-    free(back);
+    free(X.lid);
+    free(X.used);
+    free(X.fr.p);
+    free(X.slot.p);
     return s;
 }

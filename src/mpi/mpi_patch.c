@@ -214,9 +214,12 @@ static int reserve_tets(run *R, size_t nt2)
 {
     if (nt2 <= R->pcap) return 0;
     size_t cap = nt2 + R->pnt / 32 + 64;
-    uint32_t *tv = mx_realloc(R->ptv, 4 * cap * sizeof *tv);
-    if (!tv) return -1;
-    R->ptv = tv;
+    if (cap > R->tvcap) {   /* never shrunk: its room up to ptn stays its own (mx_claim_gap) */
+        uint32_t *tv = mx_realloc(R->ptv, 4 * cap * sizeof *tv);
+        if (!tv) return -1;
+        R->ptv = tv;
+        R->tvcap = cap;
+    }
     uint32_t *tn = mx_realloc(R->ptn, 4 * cap * sizeof *tn);
     if (!tn) return -1;
     R->ptn = tn;
@@ -308,6 +311,7 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
     if (!R->ptv && gtet_mesh_num_tets(R->mesh) > 0) {
         /* the first patch: the round-1 mesh's arrays become ours, to patch in place */
         R->pnt = R->pcap = gtet_mesh_take_arrays(R->mesh, &R->ptv, &R->ptn);
+        if (R->tvcap < R->pnt) R->tvcap = R->pnt;
         gtet_mesh_free(&R->mesh);
         /* room for the later rounds' new tets now, before this patch allocates anything:
          * the kernel shrank the arrays from 7 slots a point (build.c), and glibc can grow
