@@ -140,6 +140,27 @@ static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid)
     return 0;
 }
 
+/* what only the rounds read (the sets of ids held and sent, the tile grid, the last round's
+ * query keys, the owners of S) freed before the output allocates: its arrays can take those
+ * blocks instead of fresh memory (NOTES.md Q14, E121) */
+static void release_rounds(run *R)
+{
+    free(R->have.k);
+    free(R->sent.k);
+    memset(&R->have, 0, sizeof R->have);
+    memset(&R->sent, 0, sizeof R->sent);
+    free(R->gr.start);
+    free(R->gr.idx);
+    free(R->gr.cb);
+    R->gr.start = R->gr.idx = NULL;
+    R->gr.cb = NULL;
+    free(R->prev);
+    R->prev = NULL;
+    R->nprev = 0;
+    free(R->sown);
+    R->sown = NULL;
+}
+
 /* the local mesh's arrays as R->ptv, R->ptn (taken from the first round's gtet_mesh when no
  * later round patched them); *nt tets */
 static void take_local(run *R, size_t *nt)
@@ -270,6 +291,7 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     int P = c->size, me = c->rank;
     gtet_status s = GTET_OK;
     size_t nt;
+    release_rounds(R);
     take_local(R, &nt);
     uint32_t *tv = R->ptv, *nb = R->ptn;
     size_t m = R->m;
@@ -308,6 +330,8 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     for (size_t t = 0; t < nt && s == GTET_OK; t++)
         if (X.lid[t] != NOLID && compact_tet(R, &X, tv, nb, t, res->tet_offset) != 0)
             s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    free(X.lid);
+    X.lid = NULL;
     /* the result over the local mesh's arrays, before the matching allocates anything that
      * could take the memory the lower array grows into */
     if (s == GTET_OK && widen_both(R, res, vid) != 0)

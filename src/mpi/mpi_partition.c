@@ -109,6 +109,10 @@ gtet_status mx_step_partition(run *R)
     }
     for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + scnt[q];
     for (size_t i = 0; i < R->nf; i++) sb[pos[dst[i]]++] = R->fp[i];
+    /* the first occurrences are in sb now and no later step reads them: their block can take
+     * the tile the exchange receives instead of fresh memory (NOTES.md Q14, E121) */
+    free(R->fp);
+    R->fp = NULL;
     {
         void *r;
         if ((s = mx_exchange(c, sb, scnt, sizeof(mpt), &r, rcnt, &R->m, 0)) != GTET_OK)
