@@ -16,6 +16,10 @@
  * colour under the given colours and under each axis's slabs (dead and ghost slots skipped),
  * as a brute-force count does; kpar_first_axis takes the axis of the fewest crossings only
  * when it is below 3/4 of the colours' count.
+ *
+ * Run starts (NOTES.md E100): kpar_slab_runs lists, per slab, the offsets within its slice of
+ * the points that follow a gap of at least min_gap points of other slabs, min_gap the least
+ * power of two leaving at most cap of them, as a brute force does.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -304,6 +308,79 @@ static void test_the_first_pass_takes_slabs_only_for_a_clear_gain(void)
                    kpar_first_axis(take[i]), axis[i]);
 }
 
+/* kpar_slab_runs (NOTES.md E100) against a brute force: for every slab, the offsets (within its
+ * slice) of the points whose slab's previous point lies gap >= min_gap points before them, and
+ * min_gap the least power of two that leaves at most cap of them. */
+static void check_runs(const double *v, const uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                       size_t cap, const char *what)
+{
+    uint32_t *at = malloc((size_t)s->nth * cap * sizeof *at);
+    kpar_runs r = {.at = at, .cap = cap};
+    kpar_slab_runs(v, pts, np, s, &r);
+    for (int k = 0; k < s->nth; k++) {
+        size_t want_gap = 1;
+        for (;; want_gap *= 2) {  /* the least power of two leaving <= cap runs */
+            size_t n = 0, last = SIZE_MAX;
+            for (size_t i = 0; i < np; i++) {
+                if (kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s) != k) continue;
+                n += last != SIZE_MAX && i - last - 1 >= want_gap;
+                last = i;
+            }
+            if (n <= cap) break;
+        }
+        TEST_CHECK(r.min_gap[k] == want_gap, "%s: slab %d min_gap %zu, want %zu", what, k,
+                   r.min_gap[k], want_gap);
+        size_t n = 0, last = SIZE_MAX, off = 0;
+        for (size_t i = 0; i < np; i++) {
+            if (kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s) != k) continue;
+            if (last != SIZE_MAX && i - last - 1 >= want_gap) {
+                TEST_CHECK(n < r.n[k] && at[(size_t)k * cap + n] == off,
+                           "%s: slab %d run %zu at %zu, listed %u", what, k, n, off,
+                           n < r.n[k] ? at[(size_t)k * cap + n] : 0u);
+                n++;
+            }
+            last = i;
+            off++;
+        }
+        TEST_CHECK(r.n[k] == n, "%s: slab %d has %zu runs listed, brute force %zu", what, k,
+                   r.n[k], n);
+    }
+    free(at);
+}
+
+static void test_runs_are_the_points_after_a_gap(void)
+{
+    enum { N = 6000 };
+    tu_rng r = {17};
+    double *v = malloc(3 * N * sizeof *v);
+    uint32_t *pts = malloc(N * sizeof *pts);
+    for (size_t i = 0; i < N; i++) {
+        /* x along a path that crosses the cuts back and forth with runs of every length */
+        v[3 * i] = ((i / (1 + i % 37)) % 3) + 0.5 * tu_uniform(&r);
+        v[3 * i + 1] = tu_uniform(&r);
+        v[3 * i + 2] = tu_uniform(&r);
+        pts[i] = (uint32_t)((i * 7919) % N);
+    }
+    kpar_slab_cuts s = {.axis = 0, .nth = 3};
+    s.cut[1] = 1.0;
+    s.cut[2] = 2.0;
+    check_runs(v, pts, N, &s, 4096, "3 slabs, all runs");
+    check_runs(v, pts, N, &s, 40, "3 slabs, cap 40");
+    check_runs(v, pts, N, &s, 1, "3 slabs, cap 1");
+    s.nth = 2;
+    check_runs(v, pts, N, &s, 100, "2 slabs, cap 100");
+    /* one slab's points in one run: nothing to list */
+    for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
+    for (size_t i = 0; i < N; i++) v[3 * i] = i < N / 2 ? 0.5 : 1.5;
+    uint32_t at[2 * 8];
+    kpar_runs rr = {.at = at, .cap = 8};
+    kpar_slab_runs(v, pts, N, &s, &rr);
+    TEST_CHECK(rr.n[0] == 0 && rr.n[1] == 0, "two runs, one a slab: listed %zu, %zu", rr.n[0],
+               rr.n[1]);
+    free(v);
+    free(pts);
+}
+
 int main(void)
 {
     TU_RUN(test_select_gives_the_rank_of_the_sorted_order);
@@ -313,5 +390,6 @@ int main(void)
     TU_RUN(test_given_cuts_split_only_when_balanced);
     TU_RUN(test_crossing_counts_match_a_brute_force_count);
     TU_RUN(test_the_first_pass_takes_slabs_only_for_a_clear_gain);
+    TU_RUN(test_runs_are_the_points_after_a_gap);
     return tu_finish();
 }

@@ -42,7 +42,9 @@
  * a tet is marked dead, O8 no scan fallback, O10 rollback (km_insert / walk / rollback in
  * insert.c); O3 one thread: no colours (insert_serial); O4 start and restart tets found
  * read-only before the region's barrier (find_start, find_checkpoints: a thread whose last try
- * was deferred walks on from the next checkpoint, NOTES.md E13); O5 slots from free lists and atomic block claims that never pass
+ * was deferred walks on from the next checkpoint, NOTES.md E13; find_runs: in a slab pass a
+ * thread walks on from a tet located for each point where the curve comes back into its slab,
+ * E100); O5 slots from free lists and atomic block claims that never pass
  * the capacity (ensure_room); O6 arrays grow only between passes (kpar_round); O7 the retry
  * policy above (kpar_round); O9 vloc only for vertices of the thread's colour
  * (adjacency_fast_foreign for cavities with a foreign vertex, adjacency_hash for big ones);
@@ -75,6 +77,9 @@
  * serial pass instead (NOTES.md E4: 32 when every such pass re-keyed; 128 with slabs, whose
  * second and third retries on the Bunny insert 2/3 and 4/5 of their points in parallel). */
 #define SERIAL_TAIL 128
+/* Run starts of a slab pass located before it, per slice (slabs.h kpar_slab_runs, NOTES.md
+ * E100): the Bunny's 833k-point round has ~650 a slice; more are thinned to the longest gaps. */
+#define RUNS_PER_SLICE 2048
 
 static uint64_t mix64(uint64_t z)
 {
@@ -115,7 +120,12 @@ gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys,
         P->keys = malloc((m->nv ? m->nv : 1) * sizeof *P->keys);
     }
     P->skeys = malloc((m->nv ? m->nv : 1) * sizeof *P->skeys);
-    if (!P->colour || !P->keys || !P->skeys) return GTET_ERR_OUT_OF_MEMORY;
+    const size_t nth = (size_t)(threads < 1 ? 1 : threads > 255 ? 255 : threads);
+    P->runs.cap = RUNS_PER_SLICE;
+    P->runs.at = malloc(nth * RUNS_PER_SLICE * sizeof *P->runs.at);
+    P->run_tet = malloc(nth * RUNS_PER_SLICE * sizeof *P->run_tet);
+    if (!P->colour || !P->keys || !P->skeys || !P->runs.at || !P->run_tet)
+        return GTET_ERR_OUT_OF_MEMORY;
     return GTET_OK;
 }
 
@@ -127,6 +137,10 @@ void kpar_free(kpar *P)
     free(P->pk);
     free(P->tk);
     free(P->ti);
+    free(P->runs.at);
+    free(P->run_tet);
+    P->runs.at = NULL;
+    P->run_tet = NULL;
     P->colour = NULL;
     P->keys = NULL;
     P->skeys = NULL;
@@ -210,19 +224,30 @@ static int find_start(kctx *c, int nthreads, const uint32_t *pts, size_t np)
     return scan_start(c, from, 1);
 }
 
-/* Restart tets along the slice (NOTES.md E13): ck[j] (0 < j < CHECKPOINTS) is a tet of this
- * thread in conflict with one of the points at slice offset np j / CHECKPOINTS .. + 3, found
- * like find_start's by walks that may cross any colour, or UINT32_MAX.  Read-only, before
- * the pass's barrier (O4).  During the pass only this thread writes such a slot: it is its
- * tet, which no other thread may kill, and once killed the slot is on its free list. */
-#define CHECKPOINTS 64
-static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, uint32_t ck[CHECKPOINTS])
+/* Restart tets along the slice (NOTES.md E13): ck[j] (0 < j < nck) is a tet of this thread
+ * in conflict with one of the points at slice offset np j / nck .. + 3, found like
+ * find_start's by walks that may cross any colour, or UINT32_MAX.  nck = checkpoints(np): 64,
+ * and one a CK_SPACING points in long slices, up to CK_MAX (E100: a deferred walk's thread
+ * walks on sooner; the sphere's 833k-point round defers 89.7k points with 64, 45.5k with 256).
+ * Read-only, before the pass's barrier (O4).  During the pass only this thread writes such a
+ * slot: it is its tet, which no other thread may kill, and once killed the slot is on its free
+ * list. */
+#define CK_MIN 64
+#define CK_MAX 256
+#define CK_SPACING 1024
+static int checkpoints(size_t np)
+{
+    const size_t k = np / CK_SPACING;
+    return k < CK_MIN ? CK_MIN : k > CK_MAX ? CK_MAX : (int)k;
+}
+
+static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, int nck, uint32_t ck[])
 {
     const kmesh *m = c->m;
     const uint32_t last = c->last;
-    for (int j = 0; j < CHECKPOINTS; j++) ck[j] = UINT32_MAX;
-    for (int j = 1; np >= 4 * CHECKPOINTS && j < CHECKPOINTS; j++)
-        for (size_t i = np * (size_t)j / CHECKPOINTS, k = 0; k < 4; k++) {
+    for (int j = 0; j < nck; j++) ck[j] = UINT32_MAX;
+    for (int j = 1; np >= 4 * (size_t)nck && j < nck; j++)
+        for (size_t i = np * (size_t)j / (size_t)nck, k = 0; k < 4; k++) {
             const uint32_t t = km_locate(c, km_pt(m, pts[i + k]));
             if (t == UINT32_MAX) break;
             c->last = t;
@@ -231,6 +256,41 @@ static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, uint32_t c
                 break;
             }
         }
+    c->last = last;
+}
+
+/* Where a thread may walk on from, found before the pass's barrier (O4): the checkpoints
+ * (E13) and a tet for each run start of its slab (E100).  During the pass only this thread
+ * writes such a slot: it is its tet, which no other thread may kill, and once killed the slot
+ * is on its free list. */
+typedef struct restarts {
+    uint32_t ck[CK_MAX];
+    int nck;
+    const uint32_t *run_at;  /* kpar.runs: offsets in the slice, increasing */
+    uint32_t *run_tet;       /* per run start: a tet of this thread, or UINT32_MAX */
+    size_t nruns;
+} restarts;
+
+/* run_tet[j]: a tet of this thread in conflict with one of the points at slice offset
+ * run_at[j] .. + 3, found like the checkpoints' by walks from the previous run's (the runs
+ * follow each other along the curve); UINT32_MAX when none is.  Read-only, before the barrier
+ * (O4). */
+static void find_runs(kctx *c, const uint32_t *pts, size_t np, restarts *R)
+{
+    const kmesh *m = c->m;
+    const uint32_t last = c->last;
+    for (size_t j = 0; j < R->nruns; j++) {
+        R->run_tet[j] = UINT32_MAX;
+        for (size_t i = R->run_at[j]; i < np && i < (size_t)R->run_at[j] + 4; i++) {
+            const uint32_t t = km_locate(c, km_pt(m, pts[i]));
+            if (t == UINT32_MAX) break;
+            c->last = t;
+            if (km_owned(c, t)) {
+                R->run_tet[j] = t;
+                break;
+            }
+        }
+    }
     c->last = last;
 }
 
@@ -247,10 +307,15 @@ static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, 
     kpar_slab_cuts s;
     double *scratch = (double *)(void *)P->tk;  /* allocated storage: its type is the last store's */
     if (given) {
-        if (!kpar_slabs_at(m->v, pts, np, given, P->ti, begin, end)) return 0;
+        kpar_slab_runs(m->v, pts, np, given, &P->runs);
+        if (!kpar_slabs_at(m->v, pts, np, given, P->ti, begin, end)) {
+            memset(P->runs.n, 0, sizeof P->runs.n);
+            return 0;
+        }
         s = *given;
     } else {
         if (!kpar_slab_cuts_on(m->v, pts, np, nth, axis, scratch, &s)) return 0;
+        kpar_slab_runs(m->v, pts, np, &s, &P->runs);
         kpar_slab_split(m->v, pts, np, &s, P->ti, begin, end);
     }
     uint8_t *col = P->colour;
@@ -302,6 +367,7 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
                            unsigned pass, size_t begin[], size_t end[])
 {
     kmesh *m = P->m;
+    memset(P->runs.n, 0, sizeof P->runs.n);  /* Moore slices: no runs (pass_slabs fills them) */
     if (pass > 0 && pass_slabs(P, pts, np, nmesh, nth, -1, NULL, begin, end)) {
         for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */
             for (size_t i = begin[k]; i < end[k]; i++) GTET_DEBUG_ASSERT(P->colour[pts[i]] == k);
@@ -366,13 +432,15 @@ static void pass_error(int *status, gtet_status s)
  * moved to pts[b..b+*nd) in order.  A thread whose insertions almost all fail stops trying
  * (GIVE_UP); so does every thread once one has failed (the shared *status, read atomically). */
 static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_start,
-                         const uint32_t ck[CHECKPOINTS], int *status, size_t *nd_out,
-                         size_t *tried_out)
+                         const restarts *R, int *status, size_t *nd_out, size_t *tried_out)
 {
     const kmesh *m = c->m;
+    const uint32_t *ck = R->ck;
     int stale = 0;  /* the last try was deferred: c->last may be a tet no walk gets out of */
+    size_t next_run = 0;
     int next_ck = 1;
-    size_t next_at = b + (e - b) / CHECKPOINTS;
+    const size_t nck = (size_t)R->nck;
+    size_t next_at = b + (e - b) / nck;
     const size_t probe = (e - b) / GIVE_UP_PROBE > GIVE_UP_MIN ? (e - b) / GIVE_UP_PROBE
                                                                : GIVE_UP_MIN;
     size_t nd = 0, tried = 0;
@@ -383,11 +451,17 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
         int failed;
 #pragma omp atomic read
         failed = *status;
-        if (i == next_at && next_ck < CHECKPOINTS) {
+        if (i == next_at && (size_t)next_ck < nck) {
             const uint32_t t = ck[next_ck];
             if (stale && t != UINT32_MAX && !km_dead(m, t)) c->last = t;
             next_ck++;
-            next_at = b + (e - b) * (size_t)next_ck / CHECKPOINTS;
+            next_at = b + (e - b) * (size_t)next_ck / nck;
+        }
+        if (next_run < R->nruns && i == b + R->run_at[next_run]) {
+            /* the curve came back into the slab: walk on from its run's own tet, which the
+             * previous point's walk may not reach within this thread's tets (E100) */
+            const uint32_t t = R->run_tet[next_run++];
+            if (t != UINT32_MAX && !km_dead(m, t)) c->last = t;
         }
         if (have_start && !failed && !c->out_of_room && !give_up) {
             s = km_insert(c, pts[i], &deferred);
@@ -423,10 +497,14 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
         c->own_min = P->own3 ? 3 : 4;
         c->out_of_room = 0;
         int have_start = find_start(c, nth, pts + begin[tid], end[tid] - begin[tid]);
-        uint32_t ck[CHECKPOINTS];
-        find_checkpoints(c, pts + begin[tid], end[tid] - begin[tid], ck);
+        restarts R = {.run_at = P->runs.at + (size_t)tid * P->runs.cap,
+                      .run_tet = P->run_tet + (size_t)tid * P->runs.cap,
+                      .nruns = P->runs.n[tid],
+                      .nck = checkpoints(end[tid] - begin[tid])};
+        find_checkpoints(c, pts + begin[tid], end[tid] - begin[tid], R.nck, R.ck);
+        find_runs(c, pts + begin[tid], end[tid] - begin[tid], &R);
 #pragma omp barrier
-        insert_slice(c, pts, begin[tid], end[tid], have_start, ck, &status, &ndef[tid],
+        insert_slice(c, pts, begin[tid], end[tid], have_start, &R, &status, &ndef[tid],
                      &ntried[tid]);
         gtet_status fs = km_flush_block(c);
         if (fs != GTET_OK) pass_error(&status, fs);

@@ -22,6 +22,9 @@ typedef struct kpar {
     int own3;           /* passes use three-of-four ownership (after a failed pass, kpar_round) */
     kpar_cuts cuts;     /* the last parallel pass's colour ranges (the first retry's cuts) */
     uint64_t *skeys;    /* per vertex in the mesh, keys on a later pass's shifted box */
+    kpar_runs runs;     /* a slab pass's run starts per slice (slabs.h, NOTES.md E100); n[k]
+                         * 0 in a pass on Moore slices */
+    uint32_t *run_tet;  /* per run start: a tet of the slice's thread located before the pass */
     uint64_t *pk, *tk;  /* pending points' keys and radix scratch */
     uint32_t *ti;
     size_t cap_pending;

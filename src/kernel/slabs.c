@@ -155,6 +155,46 @@ int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scrat
     return 1;
 }
 
+/* floor(log2(g)), g >= 1. */
+static int gap_bin(size_t g)
+{
+    return 63 - __builtin_clzll((unsigned long long)g);
+}
+
+/* The runs (slabs.h) in two sweeps: the gaps' histogram per slab decides min_gap, then the
+ * starts are written.  A point's gap is the number of points between it and its slab's
+ * previous point (0 inside a run); the first point of a slab has none and is not listed. */
+void kpar_slab_runs(const double *v, const uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                    kpar_runs *r)
+{
+    uint32_t hist[256][32];  /* per slab, runs by floor(log2(gap)); gaps < np < 2^32 */
+    size_t last[256], cnt[256];
+    const int nth = s->nth;
+    memset(hist, 0, (size_t)nth * sizeof hist[0]);
+    for (int k = 0; k < nth; k++) last[k] = SIZE_MAX;
+    for (size_t i = 0; i < np; i++) {
+        const int k = kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s);
+        if (last[k] != SIZE_MAX && i - last[k] > 1) hist[k][gap_bin(i - last[k] - 1)]++;
+        last[k] = i;
+    }
+    for (int k = 0; k < nth; k++) {
+        size_t above = 0;
+        int b = 32;
+        while (b > 0 && above + hist[k][b - 1] <= r->cap) above += hist[k][--b];
+        r->min_gap[k] = (size_t)1 << b;  /* b == 32: none fit (at most cap runs are listed) */
+        r->n[k] = 0;
+        last[k] = SIZE_MAX;
+        cnt[k] = 0;
+    }
+    for (size_t i = 0; i < np; i++) {
+        const int k = kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s);
+        if (last[k] != SIZE_MAX && i - last[k] - 1 >= r->min_gap[k] && r->n[k] < r->cap)
+            r->at[(size_t)k * r->cap + r->n[k]++] = (uint32_t)cnt[k];
+        last[k] = i;
+        cnt[k]++;
+    }
+}
+
 void kpar_crossing(const uint32_t *tv, size_t nt, size_t stride, const double *v,
                    const uint8_t *col, const kpar_slab_cuts s[3], int nth, size_t cross[4])
 {

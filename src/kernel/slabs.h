@@ -50,6 +50,29 @@ void kpar_slab_split(const double *v, uint32_t *pts, size_t np, const kpar_slab_
 int kpar_slabs_at(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
                   uint32_t *tmp, size_t begin[], size_t end[]);
 
+/* Where the curve re-enters a slab (NOTES.md E100).  A slab pass keeps each slab's points in
+ * their previous order (a Moore order, kpar_slab_split), and that order leaves a slab and comes
+ * back: consecutive points of a slice can be far apart, with the other slab's tets between
+ * them.  A walk from the previous point's tet then meets a tet of another thread and defers
+ * the point, and every next one until the slice's next checkpoint (parallel.c).  A run of
+ * slab k is a maximal sequence of consecutive points (in pts' order) of slab k; its start is
+ * the offset, within slice k, of its first point; its gap is the number of points of other
+ * slabs just before it.  at[k * cap + j] (j < n[k]): the starts of slab k's runs whose gap is
+ * at least min_gap[k], increasing; min_gap[k] is the least power of two that leaves at most cap
+ * of them (the run that starts slice k, gap 0 or not, is never listed: the pass's start tet
+ * covers it). */
+typedef struct kpar_runs {
+    uint32_t *at;         /* nth * cap entries */
+    size_t cap;
+    size_t n[256];
+    size_t min_gap[256];
+} kpar_runs;
+
+/* Fill r (r->at, r->cap given) for the points pts[0..np) before kpar_slab_split splits them
+ * at the cuts s.  Deterministic: from the coordinates and the order alone. */
+void kpar_slab_runs(const double *v, const uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                    kpar_runs *r);
+
 /* Of every stride-th tet slot t < nt of tv (4 vertex ids a slot, kmesh.h: a dead slot, with
  * KM_DEAD in its first id, and a ghost, KM_GHOST 4th, are skipped), the tets whose four vertices
  * do not all have one colour: cross[0] under the colours col[] (a round's Moore slices),
