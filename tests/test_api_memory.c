@@ -3,16 +3,21 @@
  * a small run), the decision against each limit and the limit it names, the limits read from
  * a fake /proc and /sys tree (cgroup v2 with ancestors and "max", cgroup v1 with its
  * "unlimited" value, MemAvailable), and gtet_triangulate refusing at once through
- * gtet_options.memory_limit (or running with the guard off). */
-#define _POSIX_C_SOURCE 200809L
+ * gtet_options.memory_limit (or running with the guard off); the big arrays' pages
+ * (src/base/hugepages.c): huge pages asked for from a block's first byte, and pages mapped ahead
+ * of use exactly inside the range given (NOTES.md E110, E111). */
+#define _DEFAULT_SOURCE /* madvise, mincore, MAP_ANONYMOUS */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdint.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include "../src/api/memory.h"
+#include "../src/base/base.h"
 #include "gigatet.h"
 #include "testutil.h"
 
@@ -295,6 +300,75 @@ static void parallel_run_does_not_grow(void)
     free(xyz);
 }
 
+/* The VmFlags of the mapping holding p (/proc/self/smaps), or "" when not found. */
+static void vm_flags(const void *p, char *flags, size_t size)
+{
+    flags[0] = 0;
+    FILE *f = fopen("/proc/self/smaps", "r");
+    if (!f) return;
+    char line[512];
+    int inside = 0;
+    while (fgets(line, sizeof line, f)) {
+        unsigned long lo, hi;
+        if (sscanf(line, "%lx-%lx ", &lo, &hi) == 2 && strchr(line, '-') < strchr(line, ' '))
+            inside = (uintptr_t)p >= lo && (uintptr_t)p < hi;
+        else if (inside && strncmp(line, "VmFlags:", 8) == 0) {
+            const size_t len = strlen(line + 8);
+            memcpy(flags, line + 8, len < size ? len + 1 : size);
+            flags[size - 1] = 0;
+            break;
+        }
+    }
+    fclose(f);
+}
+
+/* base_alloc_huge: from 4 MiB on, a 2 MiB boundary and huge pages asked for over the whole
+ * block (smaps flag "hg"); below, plain memory. */
+static void big_blocks_ask_for_huge_pages(void)
+{
+    if (access("/sys/kernel/mm/transparent_hugepage/enabled", F_OK) != 0) {
+        printf("  (no transparent huge pages here: skipped)\n");
+        return;
+    }
+    const size_t big = (size_t)9 << 20;
+    char *p = base_alloc_huge(big);
+    TEST_REQUIRE(p != NULL, "allocation");
+    TEST_CHECK((uintptr_t)p % ((uintptr_t)2 << 20) == 0, "not on a 2 MiB boundary: %p", (void *)p);
+    char flags[256];
+    vm_flags(p, flags, sizeof flags);
+    TEST_CHECK(strstr(flags, " hg") != NULL, "first byte: VmFlags%s", flags);
+    vm_flags(p + big - 1, flags, sizeof flags);
+    TEST_CHECK(strstr(flags, " hg") != NULL, "last byte: VmFlags%s", flags);
+    free(p);
+}
+
+/* base_populate maps the whole pages inside its range, and only those. */
+static void populate_maps_whole_pages(void)
+{
+    const size_t page = 4096, n = 64;
+    unsigned char *p = mmap(NULL, n * page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
+                            -1, 0);
+    TEST_REQUIRE(p != MAP_FAILED, "mmap");
+    (void)madvise(p, n * page, MADV_NOHUGEPAGE);  /* so that residency is per 4 KiB page */
+    unsigned char in[64];
+    TEST_REQUIRE(mincore(p, n * page, in) == 0, "mincore");
+    size_t before = 0;
+    for (size_t i = 0; i < n; i++) before += in[i] & 1;
+    TEST_CHECK(before == 0, "%zu pages resident before", before);
+    if (base_populate(p + 100, n * page - 200) != 0) {
+        printf("  (MADV_POPULATE_WRITE not supported here: skipped)\n");
+        munmap(p, n * page);
+        return;
+    }
+    TEST_REQUIRE(mincore(p, n * page, in) == 0, "mincore");
+    for (size_t i = 0; i < n; i++) {
+        const int want = i > 0 && i + 1 < n;  /* the partial first and last pages are not whole */
+        TEST_CHECK((in[i] & 1) == want, "page %zu resident %d, want %d", i, in[i] & 1, want);
+    }
+    TEST_CHECK(p[page] == 0 && p[(n - 1) * page - 1] == 0, "populated pages not zero");
+    munmap(p, n * page);
+}
+
 int main(void)
 {
     TU_RUN(estimate_shape);
@@ -304,5 +378,7 @@ int main(void)
     TU_RUN(probe_fake_tree);
     TU_RUN(triangulate_refuses);
     TU_RUN(parallel_run_does_not_grow);
+    TU_RUN(big_blocks_ask_for_huge_pages);
+    TU_RUN(populate_maps_whole_pages);
     return tu_finish();
 }

@@ -42,4 +42,11 @@ void base_hugepages(void *p, size_t bytes);
  * plain malloc.  NULL when out of memory (bytes 0: a valid pointer). */
 void *base_alloc_huge(size_t bytes);
 
+/* Map [p, p + bytes) now, as if written (MADV_POPULATE_WRITE, Linux 5.14 on; elsewhere
+ * nothing): the whole 4 KiB pages inside it, so never memory the caller does not own.  For an
+ * array about to be written whose pages are better faulted here (several threads at once, right
+ * after memory was freed) than one by one later; the contents do not change.  Returns 0 when
+ * the pages are mapped, -1 when the system cannot do it (nothing changed). */
+int base_populate(void *p, size_t bytes);
+
 #endif

@@ -133,6 +133,27 @@ static gtet_status alloc_contexts(kbuild *b)
     return GTET_OK;
 }
 
+/* The first `slots` slots of the tet arrays mapped now, by every thread (NOTES.md E111): right
+ * after the result's vertices were freed, so that the pages come from what they gave back
+ * (cheap on a machine whose host takes freed memory back a little later) rather than from
+ * fresh memory faulted one page at a time by the insertion.  A Delaunay tetrahedrization of nv
+ * points in general position has at least nv - 3 tets, and the slots also hold the ghosts, so
+ * nv slots are used by every run: this never makes resident what the run would not. */
+static void prefault_slots(kmesh *m, size_t slots, int threads)
+{
+    const size_t huge = (size_t)2 << 20;
+    if (slots > m->cap) slots = m->cap;
+    const size_t bytes = 4 * slots * sizeof *m->tv;
+    const int T = threads < 1 ? 1 : threads;
+    const size_t part = ((bytes + (size_t)T - 1) / (size_t)T + huge - 1) & ~(huge - 1);
+    char *arr[2] = {(char *)m->tv, (char *)m->tn};
+#pragma omp parallel for num_threads(T) schedule(static) if (T > 1)
+    for (int k = 0; k < 2 * T; k++) {
+        const size_t lo = (size_t)(k / 2) * part;
+        if (lo < bytes) (void)base_populate(arr[k % 2] + lo, bytes - lo < part ? bytes - lo : part);
+    }
+}
+
 /* The working mesh with its first tet, the contexts, the parallel state, and the rounds'
  * internal ids: every position but the first tet's four, position i moved down by the number
  * of those before it (a round's end likewise). */
@@ -157,11 +178,10 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
         }
         hint = KM_MAX_SLOTS;
     }
-    b->sv = malloc((nv ? 3 * nv : 3) * sizeof *b->sv);
-    b->ids = malloc((nv ? nv : 1) * sizeof *b->ids);
+    b->sv = base_alloc_huge((nv ? 3 * nv : 3) * sizeof *b->sv);
+    b->ids = base_alloc_huge((nv ? nv : 1) * sizeof *b->ids);  /* NOTES.md E110 */
     if (!b->sv || !b->ids)
         return base_fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the sorted vertices");
-    base_hugepages(b->sv, 3 * nv * sizeof *b->sv);
     const double *rv = b->res->vertices;
     const uint32_t *order = in->order;
     double *sv = b->sv;
@@ -175,6 +195,7 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
     }
     gtet_status s = km_init(&b->m, sv, nv, hint, threads);
     if (s != GTET_OK) return s;
+    if (nv >= KBUILD_HOLD_ONCE_MIN) prefault_slots(&b->m, nv, threads);
     b->m.grow_guard = in->grow_guard;
     b->m.grow_user = in->grow_user;
     if (b->threads > 255) b->threads = 255;
@@ -230,9 +251,8 @@ static gtet_status restore_vertices(kbuild *b)
 {
     const size_t nv = b->nv;
     const uint32_t *order = b->in->order;
-    double *v = malloc((nv ? 3 * nv : 3) * sizeof *v);
+    double *v = base_alloc_huge((nv ? 3 * nv : 3) * sizeof *v);  /* written at random: E19 */
     if (!v) return GTET_ERR_OUT_OF_MEMORY;
-    base_hugepages(v, 3 * nv * sizeof *v);  /* written at random (NOTES.md E19) */
     const double *sv = b->sv;
 #pragma omp parallel for num_threads(b->threads) schedule(static) if (b->threads > 1 && nv > 65536)
     for (size_t i = 0; i < nv; i++) memcpy(v + 3 * (size_t)order[i], sv + 3 * i, 3 * sizeof *v);
@@ -252,9 +272,12 @@ static gtet_status kbuild_finish(kbuild *b)
     kpar_free(&b->P);
     free(b->m.vloc);
     b->m.vloc = NULL;
-    gtet_status s = km_finalize(&b->m, &res->tets, &res->neighbors, &res->n_tets,
-                                &res->n_hull_facets, threads);
-    if (s == GTET_OK && !res->vertices) s = restore_vertices(b);
+    /* the result's vertices first, right after the frees above: their pages then come from
+     * what those gave back (NOTES.md E111); the compaction needs neither sv nor vloc */
+    gtet_status s = res->vertices ? GTET_OK : restore_vertices(b);
+    if (s == GTET_OK)
+        s = km_finalize(&b->m, &res->tets, &res->neighbors, &res->n_tets, &res->n_hull_facets,
+                        threads);
     if (s != GTET_OK) return s;
     uint32_t *tv = res->tets;
     const size_t n4 = 4 * res->n_tets;
