@@ -94,7 +94,9 @@ typedef struct gtet_mpi_result {
 
 /* Collective.  opts as for gtet_triangulate (threads per rank; opts->error filled on
  * failure with the agreed error; check: each rank runs the exact checker on its local
- * triangulation and the ranks check their shared facets, see gtet_check_mpi).  On success
+ * triangulation and the ranks check their shared facets, see gtet_check_mpi; input_done, when
+ * set, is called once on each rank as soon as the run has copied that rank's points, after
+ * the duplicate step: the caller may free xyz from then on).  On success
  * *result is filled (free it with gtet_mpi_result_free); on failure it is zeroed. */
 GTET_API gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
                                           uint64_t first_index, const gtet_options *opts,

@@ -3,6 +3,9 @@
  * until no rank receives a new point (proofs/distributed.md D3, D5, D8). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -50,25 +53,33 @@ static gtet_status s_add_received(run *R, const mpt *rb, const size_t *rcnt, uin
 
 /* The kernel allocates a mesh's tet array and then its neighbour array, and shrinks both to
  * the live tets at the end (src/kernel/kmesh.c, finalize.c), so with glibc's heap (gigatet-mpi
- * keeps freed memory there: cli_mpi.c) the neighbour array's block usually starts a few MB
- * after the tet array's end, that tail free.  The tet array is grown into it at once, before
- * anything else can take it: the output later frees the neighbour array and grows the tet
- * array over both blocks in place (mpi_output.c: widen_both, NOTES.md E120).  Only when the
- * two blocks are that close; plain realloc (a failure keeps the array as it was: nothing but
- * speed depends on this). */
+ * keeps freed memory there: cli_mpi.c) the neighbour array's block often starts a few MB after
+ * the tet array's end.  When that gap is one free block, the tet array is grown over it, so
+ * nothing else can take it: the output can then free the neighbour array and grow the tet
+ * array over both blocks where they lie (mpi_output.c: widen_both, NOTES.md E120).  The gap
+ * is known free when a block of exactly its size is handed out exactly there; only then is the
+ * tet array grown (glibc grows a block in place into a free next block; a realloc that moved
+ * 200 MB would cost more than the output saves).  Nothing but speed depends on this. */
 void mx_claim_gap(run *R)
 {
     struct gtet_mesh *M = R->mesh;
     R->tvcap = M ? M->n_tets : 0;
-    if (!M || !M->tets || !M->neighbors) return;
+#if defined(__GLIBC__)
+    if (!M || !M->tets || !M->neighbors || !M->n_tets) return;
     uintptr_t a = (uintptr_t)M->tets, b = (uintptr_t)M->neighbors;
-    size_t used = 4 * M->n_tets * sizeof *M->tets;
-    if (b <= a || b - a < used + 16 || b - a - used > used / 8 + ((size_t)8 << 20)) return;
-    size_t room = (size_t)(b - a) - 8;   /* glibc: the block then ends where ptn's begins */
+    uintptr_t end = a + malloc_usable_size(M->tets) + 8;  /* where the next block's data starts */
+    if (b <= end || b - end > ((uintptr_t)64 << 20)) return;
+    size_t gap = (size_t)(b - end) - 8;                   /* that block's usable size */
+    void *probe = malloc(gap);
+    int free_gap = (uintptr_t)probe == end;
+    free(probe);
+    if (!free_gap) return;
+    size_t room = (size_t)(b - a) - 8;
     uint32_t *t = realloc(M->tets, room);
     if (!t) return;
     M->tets = t;
-    R->tvcap = room / (4 * sizeof *t);
+    R->tvcap = malloc_usable_size(t) / (4 * sizeof *t);
+#endif
 }
 
 static gtet_status triangulate_local(run *R)
@@ -88,6 +99,8 @@ static gtet_status triangulate_local(run *R)
         memset(&e, 0, sizeof e);
         gtet_options o = R->lopt;
         o.error = &e;
+        o.input_done = mx_free_input;
+        o.input_done_user = &xyz;
         gtet_status s = gtet_triangulate(xyz, R->ns, &o, &R->mesh);
         free(xyz);
         if (s == GTET_ERR_DEGENERATE_INPUT && attempt == 0) {

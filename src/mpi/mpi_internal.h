@@ -56,6 +56,12 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
 
 double mx_now(void);
 
+/* gtet_options.input_done for a local triangulation's own copy of its points: user is the
+ * address of the double * to free (and set to NULL).  The kernel calls it once it has copied
+ * the points (src/api/triangulate.c), so its later arrays can take that block instead of fresh
+ * memory (NOTES.md Q14, E122); the caller frees the pointer after the run too (NULL-safe). */
+void mx_free_input(void *user);
+
 /* MPI_Wait on rq, sleeping between tests once it has waited ~20 us (mpi_util.c) */
 void mx_wait(MPI_Request *rq);
 

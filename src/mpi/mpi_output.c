@@ -4,6 +4,9 @@
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>
 #include <string.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "mesh/mesh.h"
 #include "mpi/mpi_internal.h"
@@ -53,10 +56,11 @@ static int sort_by_id(mpt *a, size_t n)
  * before any later row lands on it): vertex ids stay local, a neighbour becomes its owned index
  * (NOLID: the hull, or a facet the matching fills in).  Then each array is widened to its 64-bit
  * result, back to front, so row o's 32 bytes land at or above where its 16 bytes were read.  The
- * array at the higher address is widened into fresh memory and freed; the lower one then grows
- * with realloc into what that freed (glibc's chunks coalesce; on this VM memory first touched
- * costs 0.16-7.6 s a GiB, NOTES.md Q14) and is widened where it lies: 32 B an owned tet fresh
- * where writing both results fresh took 64. */
+ * array at the higher address is widened into fresh memory and freed; when the two blocks are
+ * adjacent (mx_claim_gap), the lower one then grows with realloc into what that freed (glibc's
+ * blocks coalesce; on this VM memory first touched costs 0.16-7.6 s a GiB, NOTES.md Q14) and is
+ * widened where it lies: 32 B an owned tet fresh where writing both results fresh took 64;
+ * otherwise it is widened into fresh memory too. */
 typedef struct outx {
     uint32_t *lid;      /* local tet -> owned index, or NOLID */
     const uint64_t *vid;/* local vertex -> global id */
@@ -117,8 +121,26 @@ static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, u
     }
 }
 
+/* can the lower of ptv, ptn grow in place over the higher once that is freed?  With glibc's
+ * heap: when the higher block starts right where the lower one ends (mx_claim_gap), freeing it
+ * leaves a free next block at least as big as the growth needs */
+static int adjacent(void *low, void *high, size_t bytes)
+{
+#if defined(__GLIBC__)
+    size_t ul = malloc_usable_size(low), uh = malloc_usable_size(high);
+    return (uintptr_t)high == (uintptr_t)low + ul + 8 && ul + uh + 8 >= bytes;
+#else
+    (void)low;
+    (void)high;
+    (void)bytes;
+    return 0;
+#endif
+}
+
 /* the result's tets and neighbours from the compacted rows (see above); R->ptv, R->ptn are
- * handed over (NULL after).  -1 out of memory (R's arrays then still R's) */
+ * handed over (NULL after).  When the two blocks are not adjacent both results go to fresh
+ * memory (a realloc that moved would copy into 4 KiB pages).  -1 out of memory (R's arrays
+ * then still R's) */
 static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid)
 {
     size_t own = res->num_tets, bytes = (4 * own + 1) * sizeof(uint64_t);
@@ -126,17 +148,19 @@ static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid)
     uint32_t **low = tv_low ? &R->ptv : &R->ptn, **high = tv_low ? &R->ptn : &R->ptv;
     uint64_t **rlow = tv_low ? &res->tets : &res->neighbors;
     uint64_t **rhigh = tv_low ? &res->neighbors : &res->tets;
+    int inplace = *low && *high && adjacent(*low, *high, bytes);
     uint64_t *h = mx_malloc(bytes);
     if (!h) return -1;
     widen(h, *high, own, tv_low ? NULL : vid, res->tet_offset);
     free(*high);
     *high = NULL;
     *rhigh = h;
-    uint64_t *l = mx_realloc(*low, bytes);
+    uint64_t *l = inplace ? mx_realloc(*low, bytes) : mx_malloc(bytes);
     if (!l) return -1;
+    widen(l, inplace ? (void *)l : (void *)*low, own, tv_low ? vid : NULL, res->tet_offset);
+    if (!inplace) free(*low);
     *low = NULL;
     *rlow = l;
-    widen(l, l, own, tv_low ? vid : NULL, res->tet_offset);
     return 0;
 }
 

@@ -89,6 +89,8 @@ static int triangulate_w(patch *X)
     if (!xyz) return -1;
     for (size_t j = 0; j < X->nw; j++) memcpy(xyz + 3 * j, R->sp[X->ws[j]].x, 3 * sizeof(double));
     gtet_options o = R->lopt;
+    o.input_done = mx_free_input;
+    o.input_done_user = &xyz;
     gtet_status s = gtet_triangulate(xyz, X->nw, &o, &X->wm);
     free(xyz);
     if (s == GTET_ERR_OUT_OF_MEMORY) return -1;

@@ -96,6 +96,7 @@ gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
     R.lopt.progress = NULL;
     R.lopt.degeneracies = 0;
     R.lopt.error = NULL;
+    R.lopt.input_done = NULL;   /* the caller's: called once, below, not by the local runs */
     R.xyz = xyz;
     R.n = n;
     R.first = first_index;
@@ -115,6 +116,10 @@ gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
     double t = mx_now();
     if ((s = mx_agree(&R.c, mx_step_validate(&R))) != GTET_OK) goto fail;
     if ((s = mx_step_dedup(&R)) != GTET_OK) goto fail;
+    /* the caller's points are copied into R.fp (first occurrences) and read no more: its
+     * input_done may free them (gtet_options; the later steps can then take that memory) */
+    R.xyz = NULL;
+    if (opts && opts->input_done) opts->input_done(opts->input_done_user);
     if ((s = mx_agree(&R.c, mx_step_dimension(&R))) != GTET_OK) goto fail;
     res.stats.seconds_validate = mx_now() - t;
     t = mx_now();

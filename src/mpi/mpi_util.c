@@ -56,6 +56,13 @@ void *mx_realloc(void *p, size_t bytes)
     return realloc(p, bytes ? bytes : 1);
 }
 
+void mx_free_input(void *user)
+{
+    double **p = user;
+    free(*p);
+    *p = NULL;
+}
+
 double mx_now(void)
 {
     struct timespec ts;

@@ -1,8 +1,9 @@
 /* test_mpi_api.c -- gtet_triangulate_mpi through its C API, under mpirun -np 1..4:
  * explicit first_index ranges in reverse rank order, an empty rank, duplicates across ranks;
  * the input map, the tets and every neighbour link equal gtet_triangulate's on the whole set;
- * gtet_check_mpi accepts the result; a NaN on the last rank and overlapping index ranges give
- * the same error on every rank. */
+ * gtet_check_mpi accepts the result; opts.input_done is called exactly once on each rank (the
+ * points poisoned with NaN and freed there: nothing reads them after); a NaN on the last rank
+ * and overlapping index ranges give the same error on every rank. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,6 +34,23 @@ static void sort4(uint64_t *k)
         for (int j = i; j > 0 && k[j - 1] > k[j]; j--) { uint64_t t = k[j]; k[j] = k[j - 1]; k[j - 1] = t; }
 }
 
+/* opts.input_done: the caller's copy of its points, poisoned and freed when called */
+typedef struct input_copy {
+    double *p;
+    size_t n;
+    int calls;
+} input_copy;
+
+static void on_input_done(void *user)
+{
+    input_copy *c = user;
+    c->calls++;
+    if (!c->p) return;
+    for (size_t i = 0; i < 3 * c->n; i++) c->p[i] = NAN;
+    free(c->p);
+    c->p = NULL;
+}
+
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
@@ -61,8 +79,15 @@ int main(int argc, char **argv)
     gtet_error err;
     o.error = &err;
     gtet_mpi_result r;
-    gtet_status s = gtet_triangulate_mpi(MPI_COMM_WORLD, all + 3 * a, b - a, a, &o, &r);
+    input_copy in = {malloc((3 * (b - a) + 3) * sizeof(double)), b - a, 0};
+    memcpy(in.p, all + 3 * a, 3 * (b - a) * sizeof(double));
+    o.input_done = on_input_done;
+    o.input_done_user = &in;
+    gtet_status s = gtet_triangulate_mpi(MPI_COMM_WORLD, in.p, b - a, a, &o, &r);
     CHECK(s == GTET_OK, "status %d: %s", (int)s, err.message);
+    CHECK(in.calls == 1, "input_done called %d times", in.calls);
+    free(in.p);
+    o.input_done = NULL;
     if (s == GTET_OK) {
         const uint32_t *map = gtet_mesh_input_map(ref);
         for (size_t i = a; i < b; i++) CHECK(r.input_map[i - a] == map[i], "input map of %zu", i);
