@@ -9,7 +9,7 @@
 # run has small runs next to it), and before each run bench/touch_probe (built here with cc)
 # measures how long the machine takes to hand out M MiB of fresh memory (default 1024).  Per
 # run it prints: the --stats kernel and insert seconds, the process's user and system CPU
-# seconds and peak RSS (/usr/bin/time), the probe's seconds per GiB and the load average.  At
+# seconds, peak RSS and minor page faults (/usr/bin/time), the probe's seconds per GiB and the load average.  At
 # the end, per size, the medians in microseconds a point and the ratio of each size's median to
 # the smallest size's (the issue's figure is the kernel's, at the same thread count).
 # On a virtual machine whose host takes freed memory back (free page reporting), each new page
@@ -60,19 +60,19 @@ one() {  # size
   pr=$("$probe" "$probe_mib" | awk '{print $2}')
   load=$(cut -d' ' -f1 /proc/loadavg)
   tf=$(mktemp)
-  if ! out=$(/usr/bin/time -f "%U %S %M" -o "$tf" "$g" triangulate "$f" -t "$threads" --stats); then
+  if ! out=$(/usr/bin/time -f "%U %S %M %R" -o "$tf" "$g" triangulate "$f" -t "$threads" --stats); then
     echo "bench/scale.sh: gigatet failed on $f" >&2; rm -f "$tf"; exit 1
   fi
   out=$(tail -1 <<< "$out")
   /usr/bin/python3 - "$1" "$pr" "$load" "$(cat "$tf")" "$out" <<'EOF' | tee -a "$raw"
 import json, sys
 size, probe, load, tm, out = sys.argv[1:6]
-d = json.loads(out); s = d["seconds"]; u, sy, rss = tm.split()
-print(f"{size}\t{d['points']}\t{s['kernel']:.3f}\t{s['insert']:.3f}\t{u}\t{sy}\t{int(rss)//1024}\t{probe}\t{load}")
+d = json.loads(out); s = d["seconds"]; u, sy, rss, mf = tm.split()
+print(f"{size}\t{d['points']}\t{s['kernel']:.3f}\t{s['insert']:.3f}\t{u}\t{sy}\t{int(rss)//1024}\t{probe}\t{load}\t{mf}")
 EOF
   rm -f "$tf"
 }
-echo -e "size\tpoints\tkernel_s\tinsert_s\tuser_s\tsys_s\tpeak_MiB\tprobe_s_per_GiB\tload"
+echo -e "size\tpoints\tkernel_s\tinsert_s\tuser_s\tsys_s\tpeak_MiB\tprobe_s_per_GiB\tload\tminor_faults"
 for r in $(seq "$runs"); do
   for s in $sizes; do one "$s"; done
   [ "$small" = "${sizes##* }" ] || one "$small"
