@@ -340,6 +340,13 @@ static void big_blocks_ask_for_huge_pages(void)
     vm_flags(p + big - 1, flags, sizeof flags);
     TEST_CHECK(strstr(flags, " hg") != NULL, "last byte: VmFlags%s", flags);
     free(p);
+    /* base_alloc_big: the same block from BASE_BIG_MIN on, plain malloc below */
+    p = base_alloc_big(BASE_BIG_MIN);
+    TEST_REQUIRE(p != NULL, "allocation");
+    TEST_CHECK((uintptr_t)p % ((uintptr_t)2 << 20) == 0, "big: not on a 2 MiB boundary");
+    vm_flags(p, flags, sizeof flags);
+    TEST_CHECK(strstr(flags, " hg") != NULL, "big: VmFlags%s", flags);
+    free(p);
 }
 
 /* base_populate maps the whole pages inside its range, and only those. */

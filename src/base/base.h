@@ -42,6 +42,13 @@ void base_hugepages(void *p, size_t bytes);
  * plain malloc.  NULL when out of memory (bytes 0: a valid pointer). */
 void *base_alloc_huge(size_t bytes);
 
+/* malloc for an array of one entry a point or more: from BASE_BIG_MIN (32 MiB, glibc's largest
+ * mmap threshold: from there malloc maps fresh memory anyway) it is base_alloc_huge's block;
+ * below, plain malloc, which can reuse what the run freed without raising its peak (NOTES.md
+ * E110).  free/realloc as usual. */
+#define BASE_BIG_MIN ((size_t)32 << 20)
+void *base_alloc_big(size_t bytes);
+
 /* Map [p, p + bytes) now, as if written (MADV_POPULATE_WRITE, Linux 5.14 on; elsewhere
  * nothing): the whole 4 KiB pages inside it, so never memory the caller does not own.  For an
  * array about to be written whose pages are better faulted here (several threads at once, right

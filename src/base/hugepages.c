@@ -39,6 +39,11 @@ void base_hugepages(void *p, size_t bytes)
 #endif
 }
 
+void *base_alloc_big(size_t bytes)
+{
+    return bytes >= BASE_BIG_MIN ? base_alloc_huge(bytes) : malloc(bytes ? bytes : 1);
+}
+
 int base_populate(void *p, size_t bytes)
 {
 #if defined(__linux__)

@@ -178,10 +178,11 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
         }
         hint = KM_MAX_SLOTS;
     }
-    b->sv = base_alloc_huge((nv ? 3 * nv : 3) * sizeof *b->sv);
-    b->ids = base_alloc_huge((nv ? nv : 1) * sizeof *b->ids);  /* NOTES.md E110 */
+    b->sv = base_alloc_big((nv ? 3 * nv : 3) * sizeof *b->sv);
+    b->ids = base_alloc_big((nv ? nv : 1) * sizeof *b->ids);  /* NOTES.md E110 */
     if (!b->sv || !b->ids)
         return base_fail(err, GTET_ERR_OUT_OF_MEMORY, "allocating the sorted vertices");
+    base_hugepages(b->sv, 3 * nv * sizeof *b->sv);  /* read at random (E19) */
     const double *rv = b->res->vertices;
     const uint32_t *order = in->order;
     double *sv = b->sv;
@@ -251,8 +252,9 @@ static gtet_status restore_vertices(kbuild *b)
 {
     const size_t nv = b->nv;
     const uint32_t *order = b->in->order;
-    double *v = base_alloc_huge((nv ? 3 * nv : 3) * sizeof *v);  /* written at random: E19 */
+    double *v = base_alloc_big((nv ? 3 * nv : 3) * sizeof *v);
     if (!v) return GTET_ERR_OUT_OF_MEMORY;
+    base_hugepages(v, 3 * nv * sizeof *v);  /* written at random (NOTES.md E19) */
     const double *sv = b->sv;
 #pragma omp parallel for num_threads(b->threads) schedule(static) if (b->threads > 1 && nv > 65536)
     for (size_t i = 0; i < nv; i++) memcpy(v + 3 * (size_t)order[i], sv + 3 * i, 3 * sizeof *v);

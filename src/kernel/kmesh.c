@@ -63,7 +63,7 @@ gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint, int
     m->v = v;
     m->nv = nv;
     pred_static_init_mt(v, 3, nv, threads, &m->ps, m->box);  /* every point tested is a vertex */
-    m->vloc = base_alloc_huge(nv ? nv : 1);  /* NOTES.md E110 */
+    m->vloc = base_alloc_big(nv ? nv : 1);  /* NOTES.md E110 */
     if (!m->vloc) return GTET_ERR_OUT_OF_MEMORY;
     memset(m->vloc, 0xff, nv);
     return km_reserve(m, slots_hint);
