@@ -17,7 +17,7 @@
  * as a brute-force count does; kpar_first_axis takes the axis of the fewest crossings only
  * when it is below 3/4 of the colours' count.
  *
- * Run starts (NOTES.md E100): kpar_slab_runs lists, per slab, the offsets within its slice of
+ * Run starts (NOTES.md E100): kpar_slab_split lists, per slab, the offsets within its slice of
  * the points that follow a gap of at least min_gap points of other slabs, min_gap the least
  * power of two leaving at most cap of them, as a brute force does.
  */
@@ -225,11 +225,11 @@ static void test_given_cuts_split_only_when_balanced(void)
     size_t begin[256], end[256];
     kpar_slab_cuts s = {.axis = 1, .nth = 2};
     s.cut[1] = 1.4;  /* y in [-1.5, 1.5): about 1/30 of the points above */
-    TEST_CHECK(!kpar_slabs_at(v, pts, N, &s, tmp, begin, end), "unbalanced cuts accepted");
+    TEST_CHECK(!kpar_slabs_at(v, pts, N, &s, tmp, begin, end, NULL), "unbalanced cuts accepted");
     for (size_t i = 0; i < N; i++)
         TEST_CHECK(pts[i] == N - 1 - i, "refused, but pts changed at %zu", i);
     s.cut[1] = 0.1;
-    TEST_CHECK(kpar_slabs_at(v, pts, N, &s, tmp, begin, end), "balanced cuts refused");
+    TEST_CHECK(kpar_slabs_at(v, pts, N, &s, tmp, begin, end, NULL), "balanced cuts refused");
     TEST_CHECK(begin[0] == 0 && end[0] == begin[1] && end[1] == N, "slices [%zu,%zu) [%zu,%zu)",
                begin[0], end[0], begin[1], end[1]);
     for (int k = 0; k < 2; k++)
@@ -308,15 +308,18 @@ static void test_the_first_pass_takes_slabs_only_for_a_clear_gain(void)
                    kpar_first_axis(take[i]), axis[i]);
 }
 
-/* kpar_slab_runs (NOTES.md E100) against a brute force: for every slab, the offsets (within its
+/* kpar_slab_split's run starts (NOTES.md E100) against a brute force: for every slab, the offsets (within its
  * slice) of the points whose slab's previous point lies gap >= min_gap points before them, and
  * min_gap the least power of two that leaves at most cap of them. */
 static void check_runs(const double *v, const uint32_t *pts, size_t np, const kpar_slab_cuts *s,
                        size_t cap, const char *what)
 {
     uint32_t *at = malloc((size_t)s->nth * cap * sizeof *at);
+    uint32_t *q = malloc(np * sizeof *q), *tmp = malloc(np * sizeof *tmp);
+    memcpy(q, pts, np * sizeof *q);
     kpar_runs r = {.at = at, .cap = cap};
-    kpar_slab_runs(v, pts, np, s, &r);
+    size_t begin[256], end[256];
+    kpar_slab_split(v, q, np, s, tmp, begin, end, &r);
     for (int k = 0; k < s->nth; k++) {
         size_t want_gap = 1;
         for (;; want_gap *= 2) {  /* the least power of two leaving <= cap runs */
@@ -344,8 +347,12 @@ static void check_runs(const double *v, const uint32_t *pts, size_t np, const kp
         }
         TEST_CHECK(r.n[k] == n, "%s: slab %d has %zu runs listed, brute force %zu", what, k,
                    r.n[k], n);
+        TEST_CHECK(end[k] - begin[k] == off, "%s: slice %d holds %zu points, slab %zu", what,
+                   k, end[k] - begin[k], off);
     }
     free(at);
+    free(q);
+    free(tmp);
 }
 
 static void test_runs_are_the_points_after_a_gap(void)
@@ -372,9 +379,11 @@ static void test_runs_are_the_points_after_a_gap(void)
     /* one slab's points in one run: nothing to list */
     for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
     for (size_t i = 0; i < N; i++) v[3 * i] = i < N / 2 ? 0.5 : 1.5;
-    uint32_t at[2 * 8];
+    uint32_t at[2 * 8], *tmp = malloc(N * sizeof *tmp);
+    size_t begin[256], end[256];
     kpar_runs rr = {.at = at, .cap = 8};
-    kpar_slab_runs(v, pts, N, &s, &rr);
+    kpar_slab_split(v, pts, N, &s, tmp, begin, end, &rr);
+    free(tmp);
     TEST_CHECK(rr.n[0] == 0 && rr.n[1] == 0, "two runs, one a slab: listed %zu, %zu", rr.n[0],
                rr.n[1]);
     free(v);

@@ -5,6 +5,7 @@
  * The reference is qsort on (key & mask, original position): with the position as tie-break
  * this is the unique stable order, so equality with it checks order and stability at once.
  * The keys carry random bits above key_bits, which the sort must ignore but carry along.
+ * sort_radix_pairs_grouped (keys sorted but inside groups) gives the same order.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -184,6 +185,56 @@ static void test_radix_ignores_zero_bits_and_clamps_large_key_bits(void)
     check_case(70000, 100, UNIFORM, 2, 7);
 }
 
+/* sort_radix_pairs_grouped (NOTES.md E101) gives sort_radix_pairs's result on keys sorted but
+ * inside groups: groups of every size (1 to 200k keys) sharing their bits above `low`, in
+ * ascending order of those bits, each group shuffled or left sorted; also an already sorted
+ * input, a fully shuffled one, and descents at the top bit. */
+static void check_grouped(size_t n, int bits, int low, size_t group_max, int threads,
+                          uint64_t seed, const char *what)
+{
+    tu_rng rng = {seed};
+    const uint64_t m = mask_of(bits);
+    uint64_t *k = malloc(n * sizeof *k), *tk = malloc(n * sizeof *tk), *rk = malloc(n * sizeof *rk);
+    uint32_t *ix = malloc(n * sizeof *ix), *ti = malloc(n * sizeof *ti), *ri = malloc(n * sizeof *ri);
+    TEST_REQUIRE(k && tk && rk && ix && ti && ri, "out of memory");
+    uint64_t top = 0;
+    for (size_t i = 0; i < n;) {
+        const size_t g = 1 + (size_t)tu_below(&rng, group_max);
+        const int shuffled = tu_below(&rng, 3) != 0;
+        uint64_t at = 0;
+        for (size_t j = i; j < n && j < i + g; j++) {
+            at += tu_below(&rng, 3);  /* ascending low bits, with ties, unless shuffled */
+            const uint64_t lowbits = low >= 64 ? tu_next(&rng) : shuffled
+                ? tu_next(&rng) & mask_of(low) : at & mask_of(low);
+            const uint64_t hi = low >= 64 ? 0 : top << low;
+            k[j] = ((hi | lowbits) & m) | (tu_next(&rng) & ~m);
+            ix[j] = (uint32_t)j;
+        }
+        i += g;
+        top += 1 + tu_below(&rng, 2);
+    }
+    memcpy(rk, k, n * sizeof *k);
+    memcpy(ri, ix, n * sizeof *ix);
+    sort_radix_pairs(rk, ri, n, bits, tk, ti, 1);
+    sort_radix_pairs_grouped(k, ix, n, bits, tk, ti, threads);
+    TEST_CHECK(memcmp(rk, k, n * sizeof *k) == 0 && memcmp(ri, ix, n * sizeof *ix) == 0,
+               "%s (n=%zu bits=%d low=%d threads=%d): not sort_radix_pairs's order", what, n,
+               bits, low, threads);
+    free(k); free(tk); free(rk); free(ix); free(ti); free(ri);
+}
+
+static void test_grouped_sort_equals_the_full_sort(void)
+{
+    for (int t = 1; t <= 3; t++) {
+        check_grouped(200000, 63, 20, 64, t, 31 + t, "small groups");
+        check_grouped(300000, 63, 40, 120000, t, 41 + t, "big and small groups");
+        check_grouped(100000, 45, 45, 100000, t, 51 + t, "descents at the top bit");
+        check_grouped(70000, 64, 64, 70000, t, 61 + t, "shuffled");
+        check_grouped(50000, 30, 10, 1, t, 71 + t, "sorted (groups of one)");
+        check_grouped(5, 63, 20, 3, t, 81 + t, "five keys");
+    }
+}
+
 int main(void)
 {
     TU_RUN(test_radix_equals_stable_reference_at_boundary_sizes);
@@ -192,5 +243,6 @@ int main(void)
     TU_RUN(test_radix_is_stable_on_equal_keys);
     TU_RUN(test_radix_output_is_identical_for_threads_1_to_4);
     TU_RUN(test_radix_ignores_zero_bits_and_clamps_large_key_bits);
+    TU_RUN(test_grouped_sort_equals_the_full_sort);
     return tu_finish();
 }

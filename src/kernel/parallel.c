@@ -77,7 +77,7 @@
  * serial pass instead (NOTES.md E4: 32 when every such pass re-keyed; 128 with slabs, whose
  * second and third retries on the Bunny insert 2/3 and 4/5 of their points in parallel). */
 #define SERIAL_TAIL 128
-/* Run starts of a slab pass located before it, per slice (slabs.h kpar_slab_runs, NOTES.md
+/* Run starts of a slab pass located before it, per slice (slabs.h kpar_runs, kpar_slab_split; NOTES.md
  * E100): the Bunny's 833k-point round has ~650 a slice; more are thinned to the longest gaps. */
 #define RUNS_PER_SLICE 2048
 
@@ -307,16 +307,11 @@ static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, 
     kpar_slab_cuts s;
     double *scratch = (double *)(void *)P->tk;  /* allocated storage: its type is the last store's */
     if (given) {
-        kpar_slab_runs(m->v, pts, np, given, &P->runs);
-        if (!kpar_slabs_at(m->v, pts, np, given, P->ti, begin, end)) {
-            memset(P->runs.n, 0, sizeof P->runs.n);
-            return 0;
-        }
+        if (!kpar_slabs_at(m->v, pts, np, given, P->ti, begin, end, &P->runs)) return 0;
         s = *given;
     } else {
         if (!kpar_slab_cuts_on(m->v, pts, np, nth, axis, scratch, &s)) return 0;
-        kpar_slab_runs(m->v, pts, np, &s, &P->runs);
-        kpar_slab_split(m->v, pts, np, &s, P->ti, begin, end);
+        kpar_slab_split(m->v, pts, np, &s, P->ti, begin, end, &P->runs);
     }
     uint8_t *col = P->colour;
 #pragma omp parallel for num_threads(nth) schedule(static)
@@ -398,7 +393,9 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
         pk[i] = (keys[pts[i]] << sh) & KPAR_KEY_MASK;
         if (i > 0) unsorted |= ((keys[pts[i - 1]] << sh) & KPAR_KEY_MASK) > pk[i];
     }
-    if (unsorted) sort_radix_pairs(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
+    /* unsorted only inside the BRIO's refined cells (a dense cluster, E7): sorted there only
+     * (NOTES.md E101) */
+    if (unsorted) sort_radix_pairs_grouped(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
     uint64_t rel[256], bound0;
     kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, pass == 1 ? &P->cuts : NULL,
                 kpar_fine_span(box, m->ps.is_seps), P->tk, P->ti, begin, end, rel, &bound0);

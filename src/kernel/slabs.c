@@ -123,35 +123,11 @@ int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, 
 }
 
 int kpar_slabs_at(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
-                  uint32_t *tmp, size_t begin[], size_t end[])
+                  uint32_t *tmp, size_t begin[], size_t end[], kpar_runs *runs)
 {
     if (s->nth < 2 || s->nth > 256 || s->axis < 0 || s->axis > 2 || !balanced(v, pts, np, s))
         return 0;
-    kpar_slab_split(v, pts, np, s, tmp, begin, end);
-    return 1;
-}
-
-void kpar_slab_split(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
-                     uint32_t *tmp, size_t begin[], size_t end[])
-{
-    size_t cnt[256] = {0};
-    for (size_t i = 0; i < np; i++) cnt[kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s)]++;
-    size_t at = 0;
-    for (int k = 0; k < s->nth; k++) {
-        begin[k] = at;
-        at += cnt[k];
-        end[k] = begin[k];  /* the fill position; ends at begin[k] + cnt[k] */
-    }
-    for (size_t i = 0; i < np; i++)
-        tmp[end[kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s)]++] = pts[i];
-    memcpy(pts, tmp, np * sizeof *pts);
-}
-
-int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
-               uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out)
-{
-    if (!kpar_slab_cuts_on(v, pts, np, nth, -1, scratch, out)) return 0;
-    kpar_slab_split(v, pts, np, out, tmp, begin, end);
+    kpar_slab_split(v, pts, np, s, tmp, begin, end, runs);
     return 1;
 }
 
@@ -161,38 +137,62 @@ static int gap_bin(size_t g)
     return 63 - __builtin_clzll((unsigned long long)g);
 }
 
-/* The runs (slabs.h) in two sweeps: the gaps' histogram per slab decides min_gap, then the
- * starts are written.  A point's gap is the number of points between it and its slab's
- * previous point (0 inside a run); the first point of a slab has none and is not listed. */
-void kpar_slab_runs(const double *v, const uint32_t *pts, size_t np, const kpar_slab_cuts *s,
-                    kpar_runs *r)
+/* min_gap[k] of the runs (slabs.h) from the histogram of slab k's gaps by floor(log2(gap)):
+ * the least power of two that leaves at most cap runs; 2^32 (none) when even the longest
+ * gaps are too many. */
+static void runs_min_gap(const uint32_t hist[][32], int nth, kpar_runs *r)
 {
-    uint32_t hist[256][32];  /* per slab, runs by floor(log2(gap)); gaps < np < 2^32 */
-    size_t last[256], cnt[256];
-    const int nth = s->nth;
-    memset(hist, 0, (size_t)nth * sizeof hist[0]);
-    for (int k = 0; k < nth; k++) last[k] = SIZE_MAX;
-    for (size_t i = 0; i < np; i++) {
-        const int k = kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s);
-        if (last[k] != SIZE_MAX && i - last[k] > 1) hist[k][gap_bin(i - last[k] - 1)]++;
-        last[k] = i;
-    }
     for (int k = 0; k < nth; k++) {
         size_t above = 0;
         int b = 32;
         while (b > 0 && above + hist[k][b - 1] <= r->cap) above += hist[k][--b];
-        r->min_gap[k] = (size_t)1 << b;  /* b == 32: none fit (at most cap runs are listed) */
+        r->min_gap[k] = (size_t)1 << b;
         r->n[k] = 0;
+    }
+}
+
+/* Two sweeps over the points: the counts per slab (and with runs, the histogram of the gaps:
+ * a point's gap is the number of points between it and its slab's previous one, 0 inside a
+ * run; a slab's first point has none), then the scatter (and the run starts written). */
+void kpar_slab_split(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                     uint32_t *tmp, size_t begin[], size_t end[], kpar_runs *runs)
+{
+    size_t cnt[256] = {0}, last[256];
+    uint32_t hist[256][32];  /* per slab, runs by floor(log2(gap)); gaps < np < 2^32 */
+    const int nth = s->nth;
+    for (int k = 0; k < nth; k++) last[k] = SIZE_MAX;
+    if (runs) memset(hist, 0, (size_t)nth * sizeof hist[0]);
+    for (size_t i = 0; i < np; i++) {
+        const int k = kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s);
+        cnt[k]++;
+        if (runs && last[k] != SIZE_MAX && i - last[k] > 1) hist[k][gap_bin(i - last[k] - 1)]++;
+        last[k] = i;
+    }
+    if (runs) runs_min_gap((const uint32_t(*)[32])hist, nth, runs);
+    size_t at = 0;
+    for (int k = 0; k < nth; k++) {
+        begin[k] = at;
+        at += cnt[k];
+        end[k] = begin[k];  /* the fill position; ends at begin[k] + cnt[k] */
         last[k] = SIZE_MAX;
-        cnt[k] = 0;
     }
     for (size_t i = 0; i < np; i++) {
         const int k = kpar_slab_of(v[3 * (size_t)pts[i] + s->axis], s);
-        if (last[k] != SIZE_MAX && i - last[k] - 1 >= r->min_gap[k] && r->n[k] < r->cap)
-            r->at[(size_t)k * r->cap + r->n[k]++] = (uint32_t)cnt[k];
+        if (runs && last[k] != SIZE_MAX && i - last[k] - 1 >= runs->min_gap[k] &&
+            runs->n[k] < runs->cap)
+            runs->at[(size_t)k * runs->cap + runs->n[k]++] = (uint32_t)(end[k] - begin[k]);
         last[k] = i;
-        cnt[k]++;
+        tmp[end[k]++] = pts[i];
     }
+    memcpy(pts, tmp, np * sizeof *pts);
+}
+
+int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
+               uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out)
+{
+    if (!kpar_slab_cuts_on(v, pts, np, nth, -1, scratch, out)) return 0;
+    kpar_slab_split(v, pts, np, out, tmp, begin, end, NULL);
+    return 1;
 }
 
 void kpar_crossing(const uint32_t *tv, size_t nt, size_t stride, const double *v,

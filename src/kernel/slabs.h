@@ -24,32 +24,6 @@ static inline int kpar_slab_of(double x, const kpar_slab_cuts *s)
     return c;
 }
 
-/* Cut the pending points pts[0..np) (vertex ids into v, 3 doubles each) into nth slabs of
- * about equal counts across the axis on which their middle halves spread widest (the largest
- * distance between the 1/4 and 3/4 quantiles of the coordinates of pts[0], pts[s], pts[2 s],
- * ... with s = np / 4096 + 1; the lowest axis on ties), and reorder pts so
- * that slice k = pts[begin[k] .. end[k]) holds the points of slab k in their previous order.
- * scratch: np doubles; tmp: np entries.  Returns 0, with nothing changed, when some slab
- * would hold fewer than np / (2 nth) points (equal coordinates, a flat set), or nth < 2. */
-int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
-               uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out);
-
-/* The cuts of kpar_slabs on `axis` (0..2), or on the widest axis (-1), without reordering
- * anything: 0 when some slab would hold fewer than np / (2 nth) points (or nth < 2).
- * scratch: np doubles. */
-int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, int axis,
-                      double *scratch, kpar_slab_cuts *out);
-
-/* Reorder pts[0..np) so that slice k = pts[begin[k] .. end[k]) holds the points of slab k of s
- * in their previous order.  tmp: np entries. */
-void kpar_slab_split(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
-                     uint32_t *tmp, size_t begin[], size_t end[]);
-
-/* kpar_slab_split with given cuts s (e.g. from a sample of the points), when every slab then
- * holds at least np / (2 s->nth) points; else 0, with nothing changed. */
-int kpar_slabs_at(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
-                  uint32_t *tmp, size_t begin[], size_t end[]);
-
 /* Where the curve re-enters a slab (NOTES.md E100).  A slab pass keeps each slab's points in
  * their previous order (a Moore order, kpar_slab_split), and that order leaves a slab and comes
  * back: consecutive points of a slice can be far apart, with the other slab's tets between
@@ -68,10 +42,33 @@ typedef struct kpar_runs {
     size_t min_gap[256];
 } kpar_runs;
 
-/* Fill r (r->at, r->cap given) for the points pts[0..np) before kpar_slab_split splits them
- * at the cuts s.  Deterministic: from the coordinates and the order alone. */
-void kpar_slab_runs(const double *v, const uint32_t *pts, size_t np, const kpar_slab_cuts *s,
-                    kpar_runs *r);
+/* Cut the pending points pts[0..np) (vertex ids into v, 3 doubles each) into nth slabs of
+ * about equal counts across the axis on which their middle halves spread widest (the largest
+ * distance between the 1/4 and 3/4 quantiles of the coordinates of pts[0], pts[s], pts[2 s],
+ * ... with s = np / 4096 + 1; the lowest axis on ties), and reorder pts so
+ * that slice k = pts[begin[k] .. end[k]) holds the points of slab k in their previous order.
+ * scratch: np doubles; tmp: np entries.  Returns 0, with nothing changed, when some slab
+ * would hold fewer than np / (2 nth) points (equal coordinates, a flat set), or nth < 2. */
+int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
+               uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out);
+
+/* The cuts of kpar_slabs on `axis` (0..2), or on the widest axis (-1), without reordering
+ * anything: 0 when some slab would hold fewer than np / (2 nth) points (or nth < 2).
+ * scratch: np doubles. */
+int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, int axis,
+                      double *scratch, kpar_slab_cuts *out);
+
+/* Reorder pts[0..np) so that slice k = pts[begin[k] .. end[k]) holds the points of slab k of s
+ * in their previous order.  tmp: np entries.  runs: NULL, or its at, cap given, the run starts
+ * of the previous order are filled in (kpar_runs above; deterministic: from the coordinates
+ * and the order alone). */
+void kpar_slab_split(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                     uint32_t *tmp, size_t begin[], size_t end[], kpar_runs *runs);
+
+/* kpar_slab_split with given cuts s (e.g. from a sample of the points), when every slab then
+ * holds at least np / (2 s->nth) points; else 0, with nothing changed (runs too). */
+int kpar_slabs_at(const double *v, uint32_t *pts, size_t np, const kpar_slab_cuts *s,
+                  uint32_t *tmp, size_t begin[], size_t end[], kpar_runs *runs);
 
 /* Of every stride-th tet slot t < nt of tv (4 vertex ids a slot, kmesh.h: a dead slot, with
  * KM_DEAD in its first id, and a ghost, KM_GHOST 4th, are skipped), the tets whose four vertices

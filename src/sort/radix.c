@@ -285,3 +285,82 @@ void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
         hybrid(keys, idx, tmp_keys, tmp_idx, n, key_bits, threads, hist, bstart);
     free(heap);
 }
+
+/* The highest bit where the two masked keys of a descent differ, -1 when there is none. */
+static int descent_level(const uint64_t *keys, size_t n, uint64_t mask, int threads)
+{
+    int level = -1;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : level) \
+    if (threads > 1 && n >= RADIX_PARALLEL_MIN)
+    for (size_t i = 1; i < n; i++) {
+        const uint64_t a = keys[i - 1] & mask, b = keys[i] & mask;
+        if (a > b) {
+            const int h = 63 - __builtin_clzll(a ^ b);
+            if (h > level) level = h;
+        }
+    }
+    return level;
+}
+
+/* The end of the run of equal bits above `low` starting at lo, and whether it holds a descent. */
+static size_t group_end(const uint64_t *keys, size_t n, size_t lo, uint64_t mask, int low,
+                        int *unsorted)
+{
+    const uint64_t top = (keys[lo] & mask) >> low;
+    size_t hi = lo + 1;
+    *unsorted = 0;
+    for (; hi < n && ((keys[hi] & mask) >> low) == top; hi++)
+        *unsorted |= (keys[hi - 1] & mask) > (keys[hi] & mask);
+    return hi;
+}
+
+void sort_radix_pairs_grouped(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
+                              uint64_t *tmp_keys, uint32_t *tmp_idx, int threads)
+{
+    if (n < 2 || key_bits <= 0)
+        return;
+    if (key_bits > 64)
+        key_bits = 64;
+    if (threads < 1)
+        threads = 1;
+    const uint64_t mask = low_mask(key_bits);
+    const int level = descent_level(keys, n, mask, threads);
+    if (level < 0)
+        return;
+    const int low = level + 1;  /* bits 0..level are sorted; bits above are in order */
+    if (low >= key_bits) {
+        sort_radix_pairs(keys, idx, n, key_bits, tmp_keys, tmp_idx, threads);
+        return;
+    }
+    /* small groups in parallel, one thread each, in a first sweep; the long ones after.
+     * Thread k takes the groups that start in [n k / T, n (k + 1) / T): their bounds start[k]
+     * are found before the barrier, so no thread reads keys another one is sorting. */
+    size_t start[RADIX_MAX_THREADS + 1];
+    const int T = threads > RADIX_MAX_THREADS ? RADIX_MAX_THREADS : threads;
+#pragma omp parallel num_threads(T) if (T > 1 && n >= RADIX_PARALLEL_MIN)
+    {
+        const int nt = omp_get_num_threads(), k = omp_get_thread_num();
+        size_t lo = n / (size_t)nt * (size_t)k;
+        while (lo > 0 && lo < n && ((keys[lo - 1] & mask) >> low) == ((keys[lo] & mask) >> low))
+            lo++;  /* a group that starts before the chunk is the previous thread's */
+        start[k] = lo;
+        if (k == 0)
+            start[nt] = n;
+#pragma omp barrier
+        for (size_t end = start[k + 1]; lo < end;) {
+            int unsorted;
+            const size_t hi = group_end(keys, end, lo, mask, low, &unsorted);
+            if (unsorted && hi - lo < RADIX_PARALLEL_MIN)
+                sort_radix_pairs(keys + lo, idx + lo, hi - lo, low, tmp_keys + lo, tmp_idx + lo, 1);
+            lo = hi;
+        }
+    }
+    for (size_t lo = 0; lo < n;) {
+        int unsorted;
+        const size_t hi = group_end(keys, n, lo, mask, low, &unsorted);
+        if (unsorted && hi - lo >= RADIX_PARALLEL_MIN)
+            sort_radix_pairs(keys + lo, idx + lo, hi - lo, low, tmp_keys + lo, tmp_idx + lo,
+                             threads);
+        lo = hi;
+    }
+}

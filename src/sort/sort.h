@@ -55,6 +55,17 @@ void sort_bbox_expand(const double bbox[6], double factor, uint64_t seed, int pa
 void sort_radix_pairs(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
                       uint64_t *tmp_keys, uint32_t *tmp_idx, int threads);
 
+/* The same result as sort_radix_pairs (the unique stable order on the low key_bits bits), for
+ * keys that are sorted but for descents confined to groups: with L the highest bit in which
+ * the two keys of any descent (a key greater than the next) differ, the keys' bits above L are
+ * then already in order, and only each run of equal such bits that holds a descent is sorted,
+ * on bits 0..L.  A BRIO round whose crowded cells were refined on their own boxes is in key
+ * order but inside those cells (the kernel's first pass on a dense cluster, NOTES.md E101).
+ * Runs shorter than 32768 keys are shared out between the threads, longer ones sorted one
+ * after another with all of them. */
+void sort_radix_pairs_grouped(uint64_t *keys, uint32_t *idx, size_t n, int key_bits,
+                              uint64_t *tmp_keys, uint32_t *tmp_idx, int threads);
+
 /* The BRIO order of points xyz[i*stride] for the listed point ids ids[0..n):
  * shuffle by a hash of (id, seed), cut into rounds (the first of at most `first` points, each
  * next about `ratio` times larger), and sort each round on the Moore curve of the bounding box
