@@ -56,11 +56,11 @@ static int sort_by_id(mpt *a, size_t n)
  * before any later row lands on it): vertex ids stay local, a neighbour becomes its owned index
  * (NOLID: the hull, or a facet the matching fills in).  Then each array is widened to its 64-bit
  * result, back to front, so row o's 32 bytes land at or above where its 16 bytes were read.  The
- * array at the higher address is widened into fresh memory and freed; when the two blocks are
- * adjacent (mx_claim_gap), the lower one then grows with realloc into what that freed (glibc's
- * blocks coalesce; on this VM memory first touched costs 0.16-7.6 s a GiB, NOTES.md Q14) and is
- * widened where it lies: 32 B an owned tet fresh where writing both results fresh took 64;
- * otherwise it is widened into fresh memory too. */
+ * array at the higher address first, then the lower one; each grows with realloc and is widened
+ * where it lies when the blocks after it are free (for the lower one: when the two are adjacent,
+ * mx_claim_gap, and the higher one was freed; glibc's blocks coalesce), else it is widened into
+ * fresh memory.  On this VM memory first touched costs 0.16-7.6 s a GiB (NOTES.md Q14): an array
+ * grown in place takes 16 B a tet of fresh memory or none, a fresh result 32. */
 typedef struct outx {
     uint32_t *lid;      /* local tet -> owned index, or NOLID */
     const uint64_t *vid;/* local vertex -> global id */
@@ -121,12 +121,35 @@ static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, u
     }
 }
 
-/* can the lower of ptv, ptn grow in place over the higher once that is freed?  With glibc's
- * heap: when the higher block starts right where the lower one ends (mx_claim_gap), freeing it
- * leaves a free next block at least as big as the growth needs */
+/* can block p (of the heap) grow in place to `bytes`?  With glibc: when the blocks after it are
+ * free, as far as it needs -- known when a block of exactly the missing size, asked for, is
+ * handed out right where p ends (then freed again; glibc grows a block in place into a free
+ * next block).  Only speed depends on the answer: a realloc that moved would copy into 4 KiB
+ * pages (NOTES.md E120) */
+static int can_grow(void *p, size_t bytes)
+{
+#if defined(__GLIBC__)
+    if (!p) return 0;
+    size_t u = malloc_usable_size(p);
+    if (u >= bytes) return 1;
+    void *q = malloc(bytes - u - 8);
+    int ok = q && (uintptr_t)q == (uintptr_t)p + u + 8;
+    free(q);
+    return ok;
+#else
+    (void)p;
+    (void)bytes;
+    return 0;
+#endif
+}
+
+/* does the higher block start right where the lower one ends, with room for the growth once
+ * it is freed (mx_claim_gap)?  Decided before it is freed: can_grow's probe could then be handed
+ * another free block of the size asked */
 static int adjacent(void *low, void *high, size_t bytes)
 {
 #if defined(__GLIBC__)
+    if (!low || !high) return 0;
     size_t ul = malloc_usable_size(low), uh = malloc_usable_size(high);
     return (uintptr_t)high == (uintptr_t)low + ul + 8 && ul + uh + 8 >= bytes;
 #else
@@ -137,31 +160,40 @@ static int adjacent(void *low, void *high, size_t bytes)
 #endif
 }
 
+/* one array's result: widened in place when its block can grow (grows > 0: known; 0: when
+ * can_grow says so; < 0: never), else into fresh memory (huge pages: mx_malloc); *a handed
+ * over.  -1 out of memory (*a then still R's) */
+static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *vid, uint64_t off,
+                     int grows)
+{
+    size_t bytes = (4 * own + 1) * sizeof(uint64_t);
+    int inplace = grows > 0 || (grows == 0 && can_grow(*a, bytes));
+    uint64_t *r = inplace ? mx_realloc(*a, bytes) : mx_malloc(bytes);
+    if (!r) return -1;
+    widen(r, inplace ? (void *)r : (void *)*a, own, vid, off);
+    if (!inplace) free(*a);
+    *a = NULL;
+    *out = r;
+    return 0;
+}
+
 /* the result's tets and neighbours from the compacted rows (see above); R->ptv, R->ptn are
- * handed over (NULL after).  When the two blocks are not adjacent both results go to fresh
- * memory (a realloc that moved would copy into 4 KiB pages).  -1 out of memory (R's arrays
- * then still R's) */
+ * handed over (NULL after).  The higher block first: when the two are adjacent (mx_claim_gap)
+ * it goes to fresh memory and the lower one grows over it once it is freed; otherwise each
+ * grows in place when what follows it is free (can_grow).  -1 out of memory (R's arrays then
+ * still R's) */
 static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid)
 {
-    size_t own = res->num_tets, bytes = (4 * own + 1) * sizeof(uint64_t);
+    size_t own = res->num_tets;
     int tv_low = (uintptr_t)R->ptv < (uintptr_t)R->ptn;
     uint32_t **low = tv_low ? &R->ptv : &R->ptn, **high = tv_low ? &R->ptn : &R->ptv;
     uint64_t **rlow = tv_low ? &res->tets : &res->neighbors;
     uint64_t **rhigh = tv_low ? &res->neighbors : &res->tets;
-    int inplace = *low && *high && adjacent(*low, *high, bytes);
-    uint64_t *h = mx_malloc(bytes);
-    if (!h) return -1;
-    widen(h, *high, own, tv_low ? NULL : vid, res->tet_offset);
-    free(*high);
-    *high = NULL;
-    *rhigh = h;
-    uint64_t *l = inplace ? mx_realloc(*low, bytes) : mx_malloc(bytes);
-    if (!l) return -1;
-    widen(l, inplace ? (void *)l : (void *)*low, own, tv_low ? vid : NULL, res->tet_offset);
-    if (!inplace) free(*low);
-    *low = NULL;
-    *rlow = l;
-    return 0;
+    /* adjacent: the higher one goes to fresh memory and is freed, the lower one grows over it */
+    int adj = adjacent(*low, *high, (4 * own + 1) * sizeof(uint64_t));
+    if (widen_one(high, rhigh, own, tv_low ? NULL : vid, res->tet_offset, adj ? -1 : 0) != 0)
+        return -1;
+    return widen_one(low, rlow, own, tv_low ? vid : NULL, res->tet_offset, adj ? 1 : 0);
 }
 
 /* what only the rounds read (the sets of ids held and sent, the tile grid, the last round's
