@@ -8,6 +8,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "io_internal.h"
+#include "../base/base.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -36,7 +37,7 @@ io_status io_parse_bin(const char *name, const unsigned char *buf, size_t len, d
         return io_fail(err, IO_ERR_INPUT, "%s: %zu bytes after the %llu points the header "
                        "declares (byte offset %llu)", name, len - 8 - 24 * (size_t)count,
                        (unsigned long long)count, (unsigned long long)(8 + 24 * count));
-    double *a = malloc((size_t)count * 3 * sizeof(double));
+    double *a = base_alloc_big((size_t)count * 3 * sizeof(double));  /* NOTES.md E110 */
     if (!a) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %llu points", name,
                            (unsigned long long)count);
     for (size_t i = 0; i < 3 * (size_t)count; i++) {
@@ -124,7 +125,7 @@ io_status io_read_bin_file(const char *path, double **xyz, size_t *n, io_error *
                        "declares (byte offset %llu)", path, len - 8 - 24 * (size_t)count,
                        (unsigned long long)count, (unsigned long long)(8 + 24 * count));
     }
-    double *a = malloc((size_t)count * 24);
+    double *a = base_alloc_big((size_t)count * 24);  /* huge pages: NOTES.md E110 */
     if (!a) {
         close(fd);
         return io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %llu points", path,

@@ -7,6 +7,7 @@
  * than len / 2k points cannot be honest, and 2^60 points are refused without an allocation.
  */
 #include "io_internal.h"
+#include "../base/base.h"
 
 #include <stdlib.h>
 
@@ -88,7 +89,7 @@ io_status io_parse_node(const char *name, const char *buf, size_t len, double **
                        "%s:%zu: the header claims %llu points, more than a file of %zu bytes "
                        "can hold", name, t.line, (unsigned long long)hdr[0], len);
     size_t np = (size_t)hdr[0];
-    a = malloc(np * 3 * sizeof(double));
+    a = base_alloc_big(np * 3 * sizeof(double));  /* NOTES.md E110 */
     if (!a) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %zu points", name, np);
     long base = 0;
     for (size_t i = 0; i < np; i++) {
