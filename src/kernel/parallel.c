@@ -110,16 +110,16 @@ gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys,
     P->m = m;
     P->ctx = ctx;
     P->threads = threads;
-    P->colour = malloc(m->nv ? m->nv : 1);
+    P->colour = base_alloc_big(m->nv ? m->nv : 1);
     if (keys && key_bits >= 1 && key_bits <= KEY_BITS) {
         P->keys = keys;
         P->key_shift = 3 * (KEY_BITS - key_bits);
         P->have_keys = 1;
     } else {
         free(keys);
-        P->keys = malloc((m->nv ? m->nv : 1) * sizeof *P->keys);
+        P->keys = base_alloc_big((m->nv ? m->nv : 1) * sizeof *P->keys);
     }
-    P->skeys = malloc((m->nv ? m->nv : 1) * sizeof *P->skeys);
+    P->skeys = base_alloc_big((m->nv ? m->nv : 1) * sizeof *P->skeys);
     const size_t nth = (size_t)(threads < 1 ? 1 : threads > 255 ? 255 : threads);
     P->runs.cap = RUNS_PER_SLICE;
     P->runs.at = malloc(nth * RUNS_PER_SLICE * sizeof *P->runs.at);
@@ -542,9 +542,9 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
         free(P->pk);
         free(P->tk);
         free(P->ti);
-        P->pk = malloc(np * sizeof *P->pk);
-        P->tk = malloc(np * sizeof *P->tk);
-        P->ti = malloc(np * sizeof *P->ti);
+        P->pk = base_alloc_big(np * sizeof *P->pk);
+        P->tk = base_alloc_big(np * sizeof *P->tk);
+        P->ti = base_alloc_big(np * sizeof *P->ti);
         if (!P->pk || !P->tk || !P->ti) return GTET_ERR_OUT_OF_MEMORY;
         P->cap_pending = np;
     }

@@ -35,6 +35,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../base/base.h"
 #include "sort_internal.h"
 
 #define BRIO_MAX_ROUNDS 64
@@ -254,10 +255,10 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
 
     size_t end[BRIO_MAX_ROUNDS];
     const int rounds = brio_rounds(n, first, ratio, end);
-    uint64_t *keys = malloc(n * sizeof *keys);
-    uint64_t *tk = malloc(n * sizeof *tk);
-    uint32_t *ti = malloc(n * sizeof *ti);
-    uint8_t *round = malloc(n);
+    uint64_t *keys = base_alloc_big(n * sizeof *keys);
+    uint64_t *tk = base_alloc_big(n * sizeof *tk);
+    uint32_t *ti = base_alloc_big(n * sizeof *ti);
+    uint8_t *round = base_alloc_big(n);
     gtet_status st = GTET_ERR_OUT_OF_MEMORY;
     if (!keys || !tk || !ti || !round)
         goto out;

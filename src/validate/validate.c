@@ -15,6 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../base/base.h"
+
 #define DEDUP_AHEAD 16
 
 /* The first non-finite coordinate (smallest index, whatever the thread count). */
@@ -273,9 +275,9 @@ gtet_status kval_dedup_partitioned(const double *xyz, size_t n, int T, double **
     D.bits = 0;
     while (D.bits < 20 && (n >> D.bits) > DEDUP_BUCKET) D.bits++;
     D.nb = (size_t)1 << D.bits;
-    D.map = malloc((n ? n : 1) * sizeof *D.map);
-    D.verts = malloc((n ? 3 * n : 3) * sizeof *D.verts);
-    D.dup = malloc(n ? n : 1);
+    D.map = base_alloc_big((n ? n : 1) * sizeof *D.map);
+    D.verts = base_alloc_big((n ? 3 * n : 3) * sizeof *D.verts);
+    D.dup = base_alloc_big(n ? n : 1);
     D.cnt = malloc((size_t)T * D.nb * sizeof *D.cnt);
     D.bstart = malloc((D.nb + 1) * sizeof *D.bstart);
     if (!D.map || !D.verts || !D.dup || !D.cnt || !D.bstart) {
