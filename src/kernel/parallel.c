@@ -41,8 +41,9 @@
  * before the region, slices never split equal keys (kpar_slices in slices.c, pass_parallel); O2 ownership checked before
  * a tet is marked dead, O8 no scan fallback, O10 rollback (km_insert / walk / rollback in
  * insert.c); O3 one thread: no colours (insert_serial); O4 start and restart tets found
- * read-only before the region's barrier (find_start, find_checkpoints: a thread whose last try
- * was deferred walks on from the next checkpoint, NOTES.md E13; find_runs: in a slab pass a
+ * read-only before the region's barrier (starts.c: kpar_find_start, kpar_find_checkpoints: a
+ * thread whose last try was deferred walks on from the next checkpoint, NOTES.md E13;
+ * kpar_find_runs: in a slab pass a
  * thread walks on from a tet located for each point where the curve comes back into its slab,
  * E100); O5 slots from free lists and atomic block claims that never pass
  * the capacity (ensure_room); O6 arrays grow only between passes (kpar_round); O7 the retry
@@ -59,6 +60,7 @@
 
 #include "../base/base.h"
 #include "../sort/sort.h"
+#include "starts.h"
 
 #define KEY_BITS KPAR_KEY_BITS  /* per axis: 63-bit Moore keys (slices.h) */
 #define MIN_PER_THREAD 2048   /* fewer points per thread: fewer threads */
@@ -178,120 +180,6 @@ static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np)
     }
     P->done += np;
     return GTET_OK;
-}
-
-/* c->last = the first live tet (this thread's, if `owned`) scanning the slots cyclically from
- * `from`; 0 if there is none. */
-static int scan_start(kctx *c, size_t from, int owned)
-{
-    const kmesh *m = c->m;
-    const size_t nt = m->nt;
-    for (size_t k = 0; k < nt; k++) {
-        const size_t t = (from + k) % nt;
-        if (!km_dead(m, t) && (!owned || km_owned(c, (uint32_t)t))) {
-            c->last = (uint32_t)t;
-            return 1;
-        }
-    }
-    return 0;
-}
-
-/* A live tet of this thread's colour to start walking from.  First the tet in conflict with
- * one of the slice's first START_TRIES points that is this thread's (km_locate, each walk
- * from the last tet found): a slice rarely starts where the thread's last one ended, and a
- * walk from there that leaves the colour defers its point and, starting again from the same
- * tet, every next one until the thread gives up on its slice (NOTES.md E5).  Else its last
- * tet if still good, else the first one found scanning from a slot proportional to its colour
- * (tets are roughly in Moore order of creation).  Read-only; runs before the pass's barrier,
- * while no thread writes the mesh (O4). */
-#define START_TRIES 64
-static int find_start(kctx *c, int nthreads, const uint32_t *pts, size_t np)
-{
-    const kmesh *m = c->m;
-    const size_t from = m->nt / (size_t)nthreads * c->mine;
-    const int live = (c->last < m->nt && !km_dead(m, c->last)) || scan_start(c, from, 0);
-    if (live) {
-        const uint32_t last = c->last;
-        for (size_t i = 0; i < np && i < START_TRIES; i++) {
-            const uint32_t t = km_locate(c, km_pt(m, pts[i]));
-            if (t == UINT32_MAX) break;
-            c->last = t;
-            if (km_owned(c, t)) return 1;
-        }
-        c->last = last;
-        if (km_owned(c, c->last)) return 1;
-    }
-    return scan_start(c, from, 1);
-}
-
-/* Restart tets along the slice (NOTES.md E13): ck[j] (0 < j < nck) is a tet of this thread
- * in conflict with one of the points at slice offset np j / nck .. + 3, found like
- * find_start's by walks that may cross any colour, or UINT32_MAX.  nck = checkpoints(np): 64,
- * and one a CK_SPACING points in long slices, up to CK_MAX (E100: a deferred walk's thread
- * walks on sooner; the sphere's 833k-point round defers 89.7k points with 64, 45.5k with 256).
- * Read-only, before the pass's barrier (O4).  During the pass only this thread writes such a
- * slot: it is its tet, which no other thread may kill, and once killed the slot is on its free
- * list. */
-#define CK_MIN 64
-#define CK_MAX 256
-#define CK_SPACING 1024
-static int checkpoints(size_t np)
-{
-    const size_t k = np / CK_SPACING;
-    return k < CK_MIN ? CK_MIN : k > CK_MAX ? CK_MAX : (int)k;
-}
-
-static void find_checkpoints(kctx *c, const uint32_t *pts, size_t np, int nck, uint32_t ck[])
-{
-    const kmesh *m = c->m;
-    const uint32_t last = c->last;
-    for (int j = 0; j < nck; j++) ck[j] = UINT32_MAX;
-    for (int j = 1; np >= 4 * (size_t)nck && j < nck; j++)
-        for (size_t i = np * (size_t)j / (size_t)nck, k = 0; k < 4; k++) {
-            const uint32_t t = km_locate(c, km_pt(m, pts[i + k]));
-            if (t == UINT32_MAX) break;
-            c->last = t;
-            if (km_owned(c, t)) {
-                ck[j] = t;
-                break;
-            }
-        }
-    c->last = last;
-}
-
-/* Where a thread may walk on from, found before the pass's barrier (O4): the checkpoints
- * (E13) and a tet for each run start of its slab (E100).  During the pass only this thread
- * writes such a slot: it is its tet, which no other thread may kill, and once killed the slot
- * is on its free list. */
-typedef struct restarts {
-    uint32_t ck[CK_MAX];
-    int nck;
-    const uint32_t *run_at;  /* kpar.runs: offsets in the slice, increasing */
-    uint32_t *run_tet;       /* per run start: a tet of this thread, or UINT32_MAX */
-    size_t nruns;
-} restarts;
-
-/* run_tet[j]: a tet of this thread in conflict with one of the points at slice offset
- * run_at[j] .. + 3, found like the checkpoints' by walks from the previous run's (the runs
- * follow each other along the curve); UINT32_MAX when none is.  Read-only, before the barrier
- * (O4). */
-static void find_runs(kctx *c, const uint32_t *pts, size_t np, restarts *R)
-{
-    const kmesh *m = c->m;
-    const uint32_t last = c->last;
-    for (size_t j = 0; j < R->nruns; j++) {
-        R->run_tet[j] = UINT32_MAX;
-        for (size_t i = R->run_at[j]; i < np && i < (size_t)R->run_at[j] + 4; i++) {
-            const uint32_t t = km_locate(c, km_pt(m, pts[i]));
-            if (t == UINT32_MAX) break;
-            c->last = t;
-            if (km_owned(c, t)) {
-                R->run_tet[j] = t;
-                break;
-            }
-        }
-    }
-    c->last = last;
 }
 
 /* A pass's slabs and colours (O1): slabs between median planes across `axis`, or the pending
@@ -429,7 +317,7 @@ static void pass_error(int *status, gtet_status s)
  * moved to pts[b..b+*nd) in order.  A thread whose insertions almost all fail stops trying
  * (GIVE_UP); so does every thread once one has failed (the shared *status, read atomically). */
 static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_start,
-                         const restarts *R, int *status, size_t *nd_out, size_t *tried_out)
+                         const kpar_restarts *R, int *status, size_t *nd_out, size_t *tried_out)
 {
     const kmesh *m = c->m;
     const uint32_t *ck = R->ck;
@@ -493,13 +381,13 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
         c->mine = (uint8_t)tid;
         c->own_min = P->own3 ? 3 : 4;
         c->out_of_room = 0;
-        int have_start = find_start(c, nth, pts + begin[tid], end[tid] - begin[tid]);
-        restarts R = {.run_at = P->runs.at + (size_t)tid * P->runs.cap,
+        int have_start = kpar_find_start(c, nth, pts + begin[tid], end[tid] - begin[tid]);
+        kpar_restarts R = {.run_at = P->runs.at + (size_t)tid * P->runs.cap,
                       .run_tet = P->run_tet + (size_t)tid * P->runs.cap,
                       .nruns = P->runs.n[tid],
-                      .nck = checkpoints(end[tid] - begin[tid])};
-        find_checkpoints(c, pts + begin[tid], end[tid] - begin[tid], R.nck, R.ck);
-        find_runs(c, pts + begin[tid], end[tid] - begin[tid], &R);
+                      .nck = kpar_checkpoints(end[tid] - begin[tid])};
+        kpar_find_checkpoints(c, pts + begin[tid], end[tid] - begin[tid], R.nck, R.ck);
+        kpar_find_runs(c, pts + begin[tid], end[tid] - begin[tid], &R);
 #pragma omp barrier
         insert_slice(c, pts, begin[tid], end[tid], have_start, &R, &status, &ndef[tid],
                      &ntried[tid]);
