@@ -215,6 +215,14 @@ static void test_ele_variants(void)
         bb bad = {0};
         pf(&bad, "1 4 1\n%d 1 2 3 %d 0\n", base, 7 + base);
         expect_fail(IO_FMT_ELE, "bad.ele", &bad, &n, "vertex id");
+        /* NOTES.md E152: a UTF-8 byte order mark before the .ele's and the .node's header */
+        bb nb = {0}, eb = {0};
+        put(&nb, "\xEF\xBB\xBF", 3), put(&nb, n.p, n.n);
+        put(&eb, "\xEF\xBB\xBF", 3), put(&eb, e.p, e.n);
+        snprintf(name, sizeof name, "bom%d.ele", base);
+        expect_mesh(IO_FMT_ELE, name, &eb, &nb, 0, 0);
+        free(nb.p);
+        free(eb.p);
         free(n.p);
         free(e.p);
         free(bad.p);
@@ -315,6 +323,11 @@ static void test_msh_variants(void)
     expect_mesh(IO_FMT_MSH, "a22.msh", &c, NULL, 2, offset_of(&c, "$EndElements") + 12);
     msh22(&d, 1, 4);
     expect_mesh(IO_FMT_MSH, "b22.msh", &d, NULL, 2, offset_of(&d, "$EndElements") + 12);
+    /* NOTES.md E152: a UTF-8 byte order mark before $MeshFormat */
+    bb bom = {0};
+    put(&bom, "\xEF\xBB\xBF", 3), put(&bom, a.p, a.n);
+    expect_mesh(IO_FMT_MSH, "bom41.msh", &bom, NULL, 2, offset_of(&bom, "$EndElements") + 12);
+    free(bom.p);
     free(a.p), free(b8.p), free(b4.p), free(c.p), free(d.p);
 }
 

@@ -163,10 +163,15 @@ io_status io_load_file(const char *path, char **buf, size_t *len, io_error *err)
 
 static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
+size_t io_bom_length(const char *buf, size_t len)
+{
+    return len >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+}
+
 void io_text_init(io_text *t, const char *name, const char *buf, size_t len)
 {
     t->name = name;
-    t->p = buf;
+    t->p = buf + io_bom_length(buf, len);
     t->end = buf + len;
     t->line = 0;
     t->lp = t->le = buf;

@@ -30,6 +30,9 @@ typedef struct io_text {
 } io_text;
 
 void io_text_init(io_text *t, const char *name, const char *buf, size_t len);
+/* 3 when buf starts with a UTF-8 byte order mark (EF BB BF, which Windows editors write at the
+ * start of a text file), else 0: the text readers start after it (NOTES.md E152). */
+size_t io_bom_length(const char *buf, size_t len);
 /* Advance to the next line that has a token; 0 at the end of the data. */
 int io_text_next_line(io_text *t);
 /* Next token of the current line: 1 and [*ts, *te), or 0 at the end of the line. */

@@ -191,7 +191,7 @@ static io_status ply_header_complete(const char *name, int have_format, const pl
 io_status ply_parse_header(const char *name, const char *buf, size_t len, ply_header *h,
                            io_error *err)
 {
-    const char *p = buf, *end = buf + len;
+    const char *p = buf + io_bom_length(buf, len), *end = buf + len;
     ply_line l = {.name = name};
     int have_format = 0, done = 0;
     io_status s = IO_OK;

@@ -672,6 +672,7 @@ io_status io_parse_msh(const char *name, const char *buf, size_t len, io_mesh *o
     m.name = name;
     m.b = (const unsigned char *)buf;
     m.len = len;
+    m.at = io_bom_length(buf, len);
     m.err = err;
     io_status s = sections(&m);
     if (s == IO_OK) s = resolve(&m, out);
