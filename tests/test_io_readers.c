@@ -365,6 +365,34 @@ static void test_text_formats_skip_a_utf8_byte_order_mark(void)
            NULL);
 }
 
+/* NOTES.md E153: a PLY element without properties (legal; its items have no bytes, and in
+ * ascii no values) before the vertex element: binary skipped it item by item (2^64 items: a
+ * loop only the optimiser removed), ascii took vertex lines for its items. */
+static void test_ply_elements_without_properties(void)
+{
+    static const char asc[] = "ply\nformat ascii 1.0\nelement empty 2\nelement vertex 4\n"
+                              "property double x\nproperty double y\nproperty double z\n"
+                              "end_header\n\n\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+    double *p = NULL;
+    size_t n = 0;
+    io_error e;
+    io_status s = parse(IO_FMT_PLY, "a.ply", asc, sizeof asc - 1, &p, &n, &e);
+    TEST_CHECK(s == IO_OK && n == 4 && p[3] == 1 && p[7] == 1 && p[11] == 1, "ascii: %s",
+               s == IO_OK ? "read wrong" : e.message);
+    free(p);
+    static const char hdr[] = "ply\nformat binary_little_endian 1.0\n"
+                              "element empty 18446744073709551615\nelement vertex 4\n"
+                              "property double x\nproperty double y\nproperty double z\nend_header\n";
+    unsigned char bin[sizeof hdr - 1 + 12 * 8];
+    memcpy(bin, hdr, sizeof hdr - 1);
+    const double v[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    memcpy(bin + sizeof hdr - 1, v, sizeof v);
+    s = parse(IO_FMT_PLY, "b.ply", bin, sizeof bin, &p, &n, &e);
+    TEST_CHECK(s == IO_OK && n == 4 && p[3] == 1 && p[11] == 1, "binary: %s",
+               s == IO_OK ? "read wrong" : e.message);
+    free(p);
+}
+
 int main(void)
 {
     const uint16_t one = 1;
@@ -384,5 +412,6 @@ int main(void)
     TU_RUN(test_bin_file_reader_checks_the_size_before_allocating);
     TU_RUN(test_read_points_rejects_missing_file_directory_and_unknown_extension);
     TU_RUN(test_text_formats_skip_a_utf8_byte_order_mark);
+    TU_RUN(test_ply_elements_without_properties);
     return tu_finish();
 }

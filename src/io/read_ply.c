@@ -3,8 +3,10 @@
  *
  * Only the element named "vertex" is read for points; its properties x, y, z (any scalar
  * type, converted exactly to double) are kept and everything else is skipped.  Elements
- * before the vertex element are skipped item by item (lists have variable size); elements
- * after it (faces) are ignored.  Before the point array is allocated, the declared vertex
+ * before the vertex element are skipped item by item (lists have variable size); an element
+ * without properties has no bytes and, in ascii, only blank lines, which the text reader
+ * skips anyway (NOTES.md E153: its items are not counted off lines); elements after the
+ * vertex element (faces) are ignored.  Before the point array is allocated, the declared vertex
  * count is checked against the bytes that follow the header: a binary vertex takes at least
  * the sum of its scalar sizes (a list at least its count field), an ascii vertex at least 2
  * bytes per property.
@@ -46,7 +48,7 @@ static io_status ply_binary(const char *name, const unsigned char *b, size_t len
 {
     size_t pos = *at;
     for (int i = 0; i < h->vertex; i++)
-        for (uint64_t k = 0; k < h->el[i].count; k++)
+        for (uint64_t k = 0; k < h->el[i].count && h->el[i].nprops; k++)
             if (!bin_skip_item(&h->el[i], b, len, &pos))
                 return io_fail(err, IO_ERR_INPUT, "%s: the file ends inside element '%s' item %llu",
                                name, h->el[i].name, (unsigned long long)k);
@@ -84,7 +86,7 @@ static io_status ply_ascii(const char *name, const ply_header *h, double *a, io_
     io_text t = *tp;
     io_status s;
     for (int i = 0; i < h->vertex; i++)
-        for (uint64_t k = 0; k < h->el[i].count; k++)
+        for (uint64_t k = 0; k < h->el[i].count && h->el[i].nprops; k++)
             if (!io_text_next_line(&t))
                 return io_fail(err, IO_ERR_INPUT, "%s:%zu: the file ends inside element '%s'",
                                name, t.line, h->el[i].name);
@@ -219,7 +221,7 @@ static io_status faces_binary(const unsigned char *b, size_t len, const ply_head
                               size_t pos, ply_fan *f, io_tvec *tv, io_error *err)
 {
     for (int i = h->vertex + 1; i < h->face; i++)
-        for (uint64_t k = 0; k < h->el[i].count; k++)
+        for (uint64_t k = 0; k < h->el[i].count && h->el[i].nprops; k++)
             if (!bin_skip_item(&h->el[i], b, len, &pos))
                 return io_fail(err, IO_ERR_INPUT, "%s: the file ends inside element '%s' item %llu",
                                f->name, h->el[i].name, (unsigned long long)k);
@@ -287,7 +289,7 @@ static io_status faces_ascii(io_text *t, const ply_header *h, ply_fan *f, io_tve
                              io_error *err)
 {
     for (int i = h->vertex + 1; i < h->face; i++)
-        for (uint64_t k = 0; k < h->el[i].count; k++)
+        for (uint64_t k = 0; k < h->el[i].count && h->el[i].nprops; k++)
             if (!io_text_next_line(t))
                 return io_fail(err, IO_ERR_INPUT, "%s:%zu: the file ends inside element '%s'",
                                t->name, t->line, h->el[i].name);
