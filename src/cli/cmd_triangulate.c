@@ -11,6 +11,7 @@
  * progress bar goes to stderr only when stderr is a terminal; -q silences all but errors.
  */
 #define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "cli.h"
 #include "io/io_internal.h"
 #include "json.h"
@@ -204,6 +205,36 @@ static int overwrites_input(const char *input, const char *out)
     return same;
 }
 
+/* The directory entry `path` names: its directory resolved (realpath) and its last component,
+ * so that two spellings of one entry ("m.vtu", "./m.vtu", "sub/../m.vtu") give one string;
+ * NULL when the directory cannot be resolved.  Not the file a symbolic link points to: the
+ * atomic rename of io_out replaces the link itself. */
+static char *resolved_entry(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+    char *rd = dir ? realpath(dir, NULL) : NULL;
+    free(dir);
+    if (!rd) return NULL;
+    const char *base = slash ? slash + 1 : path;
+    size_t n = strlen(rd) + strlen(base) + 2;
+    char *r = malloc(n);
+    if (r) snprintf(r, n, "%s/%s", rd, base);
+    free(rd);
+    return r;
+}
+
+/* 1 when the two output paths name the same directory entry (NOTES.md E150). */
+static int same_entry(const char *a, const char *b)
+{
+    if (!strcmp(a, b)) return 1;
+    char *ra = resolved_entry(a), *rb = resolved_entry(b);
+    int same = ra && rb && !strcmp(ra, rb);
+    free(ra);
+    free(rb);
+    return same;
+}
+
 /* --memory-limit's value: "auto" (0), "off" (SIZE_MAX), or a positive number of bytes with
  * an optional binary suffix K, M, G, T (and an optional "B" or "iB" after it).  0 on junk. */
 static int parse_memory_limit(const char *s, size_t *out)
@@ -253,7 +284,7 @@ static int tri_validate(tri_args *a, unsigned given)
                          a->degen, a->input);
     if (a->degen && a->output) {
         char *node = io_ele_node_path(a->output);
-        int same = !strcmp(a->degen, a->output) || (node && !strcmp(a->degen, node));
+        int same = same_entry(a->degen, a->output) || (node && same_entry(a->degen, node));
         free(node);
         if (same) return cli_usage("%s: both the mesh and the degeneracies would go there", a->degen);
     }

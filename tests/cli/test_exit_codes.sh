@@ -40,6 +40,11 @@ expect 1 "--seed" -- "$G" generate uniform 10 --seed x -o g.xyz
 expect 1 "no mesh" -- "$G" check
 expect 1 "check reads" -- "$G" check mesh.stl
 [ ! -e g.xyz ] && [ ! -e g.txt ] || fail "a usage error created a file"
+# NOTES.md E150: the degeneracy record named the mesh by another spelling (./m.vtu): the
+# JSON replaced the finished mesh, exit 0
+expect 1 "both the mesh and the degeneracies would go there" -- "$G" triangulate ok.xyz -o m.vtu --degeneracies ./m.vtu
+expect 1 "both the mesh and the degeneracies would go there" -- "$G" triangulate ok.xyz -o m.ele --degeneracies "$W/m.node"
+[ ! -e m.vtu ] && [ ! -e m.ele ] && [ ! -e m.node ] || fail "a refused run wrote a mesh"
 expect 0 "" -- "$G" triangulate ok.xyz -t 1
 expect 0 "" -- "$G" triangulate ok.xyz --threads=2
 
