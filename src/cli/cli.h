@@ -97,6 +97,10 @@ void cli_print_command_help(FILE *f, const cli_command *cmd);
     {.name = "--points", .kind = CLI_OPT_STRING, .off = offsetof(type, points),             \
      .arg = "INPUT", .missing = "option --points needs a file name", .help = text}
 
+/* 1 when writing `out` (or the .node beside it when it is a .ele) would replace the existing
+ * file `input` (same device and inode). */
+int cli_overwrites_input(const char *input, const char *out);
+
 /* A usage error ("PATH: CMD reads ... meshes") unless path names a readable mesh format. */
 int cli_need_mesh_format(const char *cmd, const char *path);
 

@@ -201,6 +201,9 @@ static int cli_generate(int argc, char **argv)
     if (surface && !io_format_can(io_format_of(a.mesh), IO_READ_SURFACE))
         return cli_usage("%s: generate surface reads %s meshes", a.mesh,
                          io_format_list(IO_READ_SURFACE, 0, list, sizeof list));
+    if (surface && cli_overwrites_input(a.mesh, a.output))   /* NOTES.md E151 */
+        return cli_usage("%s: writing the points would overwrite the input mesh %s", a.output,
+                         a.mesh);
     io_error ioe;
     io_status is;
     double *xyz;

@@ -193,7 +193,7 @@ static void print_stats(const tri_args *a, const gtet_mesh *mesh, const tri_time
 }
 
 /* 1 when writing `out` (or the .node beside a .ele) would replace the input file. */
-static int overwrites_input(const char *input, const char *out)
+int cli_overwrites_input(const char *input, const char *out)
 {
     struct stat si, so;
     if (stat(input, &si) != 0) return 0;
@@ -274,12 +274,12 @@ static int tri_validate(tri_args *a, unsigned given)
     if (a->output && !io_format_can(io_format_of(a->output), IO_WRITE_MESH))
         return cli_usage("%s: unknown output extension (use %s)", a->output,
                          io_format_list(IO_WRITE_MESH, 0, list, sizeof list));
-    if (a->output && overwrites_input(a->input, a->output))
+    if (a->output && cli_overwrites_input(a->input, a->output))
         return cli_usage("%s: writing the mesh would overwrite the input file %s", a->output,
                          a->input);
     if ((given & GIVEN_LIMIT) && !a->degen)
         return cli_usage("--degeneracies-limit needs --degeneracies FILE");
-    if (a->degen && overwrites_input(a->input, a->degen))
+    if (a->degen && cli_overwrites_input(a->input, a->degen))
         return cli_usage("%s: writing the degeneracies would overwrite the input file %s",
                          a->degen, a->input);
     if (a->degen && a->output) {

@@ -45,6 +45,13 @@ expect 1 "check reads" -- "$G" check mesh.stl
 expect 1 "both the mesh and the degeneracies would go there" -- "$G" triangulate ok.xyz -o m.vtu --degeneracies ./m.vtu
 expect 1 "both the mesh and the degeneracies would go there" -- "$G" triangulate ok.xyz -o m.ele --degeneracies "$W/m.node"
 [ ! -e m.vtu ] && [ ! -e m.ele ] && [ ! -e m.node ] || fail "a refused run wrote a mesh"
+# NOTES.md E151: generate surface -o named its own --mesh: the surface replaced by its samples
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > tet4.off
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' > tri.ply
+cp tri.ply tri.ply.orig
+expect 1 "would overwrite the input mesh" -- "$G" generate surface 10 --mesh tri.ply -o ./tri.ply
+cmp -s tri.ply tri.ply.orig || fail "generate surface overwrote its --mesh"
+expect 0 "" -- "$G" generate surface 10 --mesh tet4.off -o tet4.xyz
 expect 0 "" -- "$G" triangulate ok.xyz -t 1
 expect 0 "" -- "$G" triangulate ok.xyz --threads=2
 
