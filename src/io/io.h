@@ -157,6 +157,12 @@ typedef struct io_mesh {
     size_t skipped_cells;   /* cells that are not linear tetrahedra (.msh, .vtu), not read */
 } io_mesh;
 
+/* Remove every temporary the writers have open now (each output is written to a temporary
+ * beside it and renamed into place when complete): for a program's handler of a fatal signal
+ * (Ctrl-C while a mesh is written), which then re-raises it.  Async-signal-safe: it only
+ * reads a fixed table of atomic pointers and calls unlink (NOTES.md E156). */
+void io_out_unlink_all(void);
+
 /* Write a tet mesh (a format with IO_WRITE_MESH), atomically (for .ele both files or neither). */
 io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
                         const uint32_t *tets, size_t nt, io_error *err);

@@ -13,6 +13,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <stdatomic.h>
 #include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
@@ -360,6 +361,36 @@ io_status io_read_points(const char *path, double **xyz, size_t *n, io_error *er
 
 /* ---- atomic output ----------------------------------------------------------------------- */
 
+/* The temporaries between io_out_open and their commit or abort, for io_out_unlink_all (a
+ * signal handler): a slot holds the path while the file may exist, and is cleared before the
+ * path is freed.  More than IO_OUT_LIVE at once are not listed (the CLI has at most three). */
+#define IO_OUT_LIVE 16
+static _Atomic(char *) out_live[IO_OUT_LIVE];
+
+static void live_add(char *tmp)
+{
+    for (int i = 0; i < IO_OUT_LIVE; i++) {
+        char *none = NULL;
+        if (atomic_compare_exchange_strong(&out_live[i], &none, tmp)) return;
+    }
+}
+
+static void live_remove(char *tmp)
+{
+    for (int i = 0; i < IO_OUT_LIVE; i++) {
+        char *was = tmp;
+        if (atomic_compare_exchange_strong(&out_live[i], &was, NULL)) return;
+    }
+}
+
+void io_out_unlink_all(void)
+{
+    for (int i = 0; i < IO_OUT_LIVE; i++) {
+        char *t = atomic_load(&out_live[i]);
+        if (t) unlink(t);
+    }
+}
+
 io_status io_out_open(io_out *o, const char *path, io_error *err)
 {
     o->f = NULL;
@@ -372,10 +403,12 @@ io_status io_out_open(io_out *o, const char *path, io_error *err)
     unsigned long salt = (unsigned long)ts.tv_nsec;
     for (int attempt = 0; attempt < 100; attempt++) {
         snprintf(o->tmp, cap, "%s.tmp-%ld-%lu", path, (long)getpid(), salt + (unsigned long)attempt);
+        live_add(o->tmp);   /* before the file exists: a signal at any time after finds it */
         int fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
         if (fd < 0) {
-            if (errno == EEXIST) continue;
             int e = errno;
+            live_remove(o->tmp);
+            if (e == EEXIST) continue;
             free(o->tmp);
             o->tmp = NULL;
             return io_fail(err, IO_ERR_WRITE, "%s: cannot create the output file: %s", path,
@@ -386,6 +419,7 @@ io_status io_out_open(io_out *o, const char *path, io_error *err)
             int e = errno;
             close(fd);
             unlink(o->tmp);
+            live_remove(o->tmp);
             free(o->tmp);
             o->tmp = NULL;
             return io_fail(err, IO_ERR_WRITE, "%s: cannot open the output file: %s", path,
@@ -424,6 +458,7 @@ io_status io_out_commit(io_out *o, io_error *err)
         return io_fail(err, IO_ERR_WRITE, "%s: cannot rename the finished output into place: %s",
                        o->path, strerror(e));
     }
+    live_remove(o->tmp);
     free(o->tmp);
     o->tmp = NULL;
     return IO_OK;
@@ -437,6 +472,7 @@ void io_out_abort(io_out *o)
     }
     if (o->tmp) {
         unlink(o->tmp);
+        live_remove(o->tmp);
         free(o->tmp);
         o->tmp = NULL;
     }

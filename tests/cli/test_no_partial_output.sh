@@ -43,6 +43,34 @@ expect 0 "" -- "$G" triangulate in.xyz -o out/keep.msh
 grep -q '^\$MeshFormat' out/keep.msh || fail "a successful run did not replace the output"
 [ "$(listing out)" = "keep.msh " ] || fail "temporaries left: $(listing out)"
 
+# NOTES.md E156: a signal (Ctrl-C, kill, hang-up) while the mesh is written removes its
+# temporaries (NAME.tmp-PID-N; for .ele the .node's too) and the process still dies of it.
+# Job control on (set -m): bash's background jobs otherwise start with SIGINT ignored.
+"$G" generate uniform 300000 --seed 2 -o big.bin -q || fail "generate"
+mkdir sig
+set -m
+for s in INT TERM HUP; do
+    for o in vtu ele; do
+        "$G" triangulate big.bin -o "sig/m.$o" -t 1 -q --degeneracies sig/d.json &
+        pid=$!
+        # until the mesh's temporary has data (at most 60 s): the write is under way (the
+        # empty temporaries of the writability checks at the start do not count)
+        for _ in $(seq 6000); do
+            [ -n "$(find sig -name "m.*.tmp-*" -size +0)" ] && break
+            sleep 0.01
+        done
+        [ -n "$(find sig -name "m.*.tmp-*" -size +0)" ] || fail "SIG$s .$o: no temporary seen"
+        kill -"$s" "$pid"
+        wait "$pid"
+        rc=$?
+        [ "$rc" -eq $((128 + $(kill -l "$s"))) ] || fail "SIG$s .$o: exit $rc, not death by the signal"
+        [ -z "$(listing sig)" ] && pass "SIG$s while writing .$o: nothing left" ||
+            fail "SIG$s while writing .$o left: $(listing sig)"
+        rm -f sig/*
+    done
+done
+set +m
+
 # the mesh must not overwrite its own input (NAME.node for NAME.ele)
 cp in.xyz tmp.xyz
 "$G" generate uniform 50 -o pts.node -q
