@@ -333,9 +333,9 @@ static void test_nan_and_inf_name_the_input_index(void)
     for (int th = 1; th <= 4; th++) {
         o.threads = th;
         TEST_CHECK(gtet_triangulate(p, nb, &o, &m) == GTET_ERR_NONFINITE && err.index == 200000 &&
-                       strstr(err.message, "infinite z") != NULL,
-                   "%d threads: index %zu (%s), expected 200000, infinite z", th, err.index,
-                   err.message);
+                       strstr(err.message, "point 200000 has an infinite z") != NULL,
+                   "%d threads: index %zu (%s), expected 200000, 'has an infinite z' (E155)", th,
+                   err.index, err.message);
     }
     p[3 * 200000 + 2] = 0.5;
     p[3 * 7 + 0] = -INFINITY;  /* in the first thread's part */

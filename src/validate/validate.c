@@ -29,8 +29,8 @@ gtet_status kval_finite(const double *xyz, size_t n, int threads, gtet_error *er
     for (size_t i = 0; i < n3; i++)
         if (!isfinite(xyz[i]) && i < first) first = i;
     if (first == SIZE_MAX) return GTET_OK;
-    base_error(err, GTET_ERR_NONFINITE, first / 3, -1, "point %zu has a %s %c coordinate",
-               first / 3, isnan(xyz[first]) ? "NaN" : "infinite", "xyz"[first % 3]);
+    base_error(err, GTET_ERR_NONFINITE, first / 3, -1, "point %zu has %s %c coordinate",
+               first / 3, isnan(xyz[first]) ? "a NaN" : "an infinite", "xyz"[first % 3]);
     return GTET_ERR_NONFINITE;
 }
 
