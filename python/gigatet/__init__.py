@@ -53,7 +53,8 @@ def _readonly(a):
 
 
 class Delaunay:
-    """Delaunay(points, threads=0, check=False)
+    """Delaunay(points, threads=0, check=False, memory_limit=None, *, furthest_site=False,
+    incremental=False, qhull_options=None)
 
     The Delaunay tetrahedrization of ``points`` (shape (n, 3), any real dtype and layout;
     converted once to C-contiguous float64, which is ``self.points``).
@@ -64,6 +65,12 @@ class Delaunay:
              run's peak before the work and raises MemoryError at once ("needs about X, Y
              available (MemAvailable)") when the machine (MemAvailable, the cgroup's limit,
              ulimit -v) cannot give it; an int: that many bytes are available; "off": no guard.
+
+    furthest_site, incremental, qhull_options: scipy's keywords (keyword-only here: the second
+             positional argument is ``threads``), so that code written for scipy runs:
+             qhull_options is accepted and ignored (the result is the exact tetrahedrization,
+             which no Qhull option changes: no joggling is needed); furthest_site=True and
+             incremental=True raise NotImplementedError.
 
     Raises ValueError for NaN or infinite coordinates (the message and ``.index`` name the
     point), DegenerateInputError (a ValueError, ``.dimension`` = 0, 1, 2 or -1 for no points)
@@ -85,7 +92,18 @@ class Delaunay:
     furthest_site = False
     NO_TET = _gigatet.NO_TET
 
-    def __init__(self, points, threads=0, check=False, memory_limit=None):
+    def __init__(self, points, threads=0, check=False, memory_limit=None, *,
+                 furthest_site=False, incremental=False, qhull_options=None):
+        # scipy's keywords (NOTES.md E154): before, a TypeError for code written for scipy
+        if furthest_site:
+            raise NotImplementedError("furthest_site=True: gigatet builds the Delaunay "
+                                      "tetrahedrization, not the furthest-site one")
+        if incremental:
+            raise NotImplementedError("incremental=True: gigatet does not add points to a "
+                                      "built mesh; build a Delaunay of all the points")
+        if qhull_options is not None and not isinstance(qhull_options, (str, bytes)):
+            raise TypeError("qhull_options must be a string or None (it is ignored: the "
+                            "result is exact whatever Qhull's options)")
         pts = _as_points(points)
         if pts.ndim != 2:
             raise ValueError("points must have shape (n, 3), got %s" % (pts.shape,))

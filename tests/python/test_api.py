@@ -74,6 +74,23 @@ def test_errors():
     assert issubclass(gigatet.CheckError, RuntimeError)
 
 
+def test_scipy_keywords():
+    """NOTES.md E154: scipy's keyword arguments are accepted (code written for
+    scipy.spatial.Delaunay runs); qhull_options is ignored (the result is exact), the
+    furthest-site and incremental modes are refused with NotImplementedError."""
+    p = cube_points(200)
+    ref = gigatet.Delaunay(p)
+    for kw in ({"qhull_options": "Qbb Qc Qz Q12"}, {"qhull_options": "QJ"},
+               {"qhull_options": b"Qt"}, {"qhull_options": None},
+               {"furthest_site": False, "incremental": False}):
+        assert np.array_equal(gigatet.Delaunay(p, **kw).simplices, ref.simplices), kw
+    for kw in ({"furthest_site": True}, {"incremental": True}):
+        with pytest.raises(NotImplementedError, match=next(iter(kw))):
+            gigatet.Delaunay(p, **kw)
+    with pytest.raises(TypeError, match="qhull_options"):
+        gigatet.Delaunay(p, qhull_options=7)
+
+
 def test_memory_limit():
     """The memory guard: a limit the run cannot fit raises MemoryError at once, naming it;
     "off" and a large value run; bad values are ValueError."""
