@@ -217,6 +217,33 @@ static gtet_status check_distinct(chk_ctx *c, vkey *keys, const uint8_t *used, s
     return GTET_OK;
 }
 
+/* Input point i (p) is not a vertex.  When a vertex lies within 1e-5 of it, relative to its
+ * largest coordinate, the mesh writer most likely rounded the coordinates (meshio's ASCII
+ * .vtu keeps 12 digits, many tools %g's 6): the message names that vertex and says so, instead
+ * of leaving the user to think a vertex is missing (NOTES.md E157).  A linear scan, on failure
+ * only. */
+static gtet_status missing_input(chk_ctx *c, const vkey *keys, size_t nk, size_t i, const double *p)
+{
+    size_t best = SIZE_MAX;
+    double bd = INFINITY;
+    for (size_t k = 0; k < nk; k++) {
+        double d = 0;
+        for (int a = 0; a < 3; a++) d = fmax(d, fabs(keys[k].x[a] - p[a]));
+        if (d < bd) bd = d, best = k;
+    }
+    double scale = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
+    if (best != SIZE_MAX && bd <= 1e-5 * scale) {
+        const double *q = keys[best].x;
+        return chk_fail(c, "input point %zu (%.17g, %.17g, %.17g) is not a vertex of the mesh; "
+                        "vertex %u (%.17g, %.17g, %.17g) is off by a relative %.1e: were the "
+                        "coordinates rounded when the mesh was written? (17 significant digits "
+                        "keep them exact)", i, p[0], p[1], p[2], keys[best].id, q[0], q[1], q[2],
+                        bd / scale);
+    }
+    return chk_fail(c, "input point %zu (%.17g, %.17g, %.17g) is not a vertex of the mesh", i,
+                    p[0], p[1], p[2]);
+}
+
 /* The used vertices (keys[0..nk), sorted) against the input points: every input point is a
  * vertex, every used vertex an input point, and with an input map the map and gigatet's
  * numbering (order of first occurrence). */
@@ -232,9 +259,7 @@ static gtet_status check_against_input(chk_ctx *c, const vkey *keys, size_t nk, 
         const double *p = c->xyz + 3 * i;
         if (!finite3(p)) return chk_fail(c, "input point %zu has a non-finite coordinate", i);
         uint32_t v = find_vertex(keys, nk, p);
-        if (v == UINT32_MAX)
-            return chk_fail(c, "input point %zu (%.17g, %.17g, %.17g) is not a vertex of the mesh",
-                            i, p[0], p[1], p[2]);
+        if (v == UINT32_MAX) return missing_input(c, keys, nk, i, p);
         if (c->input_map && c->input_map[i] != v) {
             chk_note(c, GTET_CHECK_NONE, GTET_CHECK_NONE, 1, &v);
             return chk_fail(c, "input_map[%zu] = %u, but input point %zu is vertex %u", i,

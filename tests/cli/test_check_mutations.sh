@@ -28,4 +28,15 @@ mutant moved     '{ print }' 'NR == 2 { $2 = $2 + 50 } { print }'
 cp m.ele moved_in.ele
 awk 'NR == 2 { $2 = $2 + 1e-9 } { print }' m.node > moved_in.node
 expect 5 "check failed" -- "$G" check moved_in.ele --points in.bin
+# NOTES.md E157: coordinates rounded by the writer (12 digits, as meshio's ASCII .vtu): the
+# message names the nearest vertex and asks whether they were rounded; a vertex far from
+# every input point gets the plain message
+cp m.ele rounded.ele
+awk 'NR > 1 && /^[0-9]/ { printf "%d %.12g %.12g %.12g\n", $1, $2, $3, $4; next } { print }' m.node > rounded.node
+expect 5 "were the coordinates rounded when the mesh was written?" -- "$G" check rounded.ele --points in.bin
+grep -q "is off by a relative [0-9.]*e-1[0-9]" "$T/err" || fail "rounded: no relative offset in: $(cat "$T/err")"
+cp m.ele far.ele
+awk 'NR == 2 { $2 = $2 + 50 } { print }' m.node > far.node
+expect 5 "is not a vertex of the mesh" -- "$G" check far.ele --points in.bin
+grep -q "rounded" "$T/err" && fail "far: a vertex moved by 50 called rounding: $(cat "$T/err")"
 finish
