@@ -104,6 +104,13 @@ io_status io_load_file(const char *path, char **buf, size_t *len, io_error *err)
     *len = 0;
     int fd = open(path, O_RDONLY);
     if (fd < 0) return io_fail(err, IO_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
+    return io_load_fd(fd, path, buf, len, err);
+}
+
+io_status io_load_fd(int fd, const char *path, char **buf, size_t *len, io_error *err)
+{
+    *buf = NULL;
+    *len = 0;
     struct stat st;
     if (fstat(fd, &st) != 0) {
         int e = errno;

@@ -20,6 +20,9 @@ io_status io_fail(io_error *err, io_status status, const char *fmt, ...)
 /* Read a whole file into a malloc'ed buffer with a NUL after its len bytes.  Rejects a
  * missing file, a directory, a read error. */
 io_status io_load_file(const char *path, char **buf, size_t *len, io_error *err);
+/* The same from a file already open (closed here): a named pipe must not be opened twice, its
+ * writer's data would go to the first reader (NOTES.md E158). */
+io_status io_load_fd(int fd, const char *path, char **buf, size_t *len, io_error *err);
 
 /* ---- text lines and tokens --------------------------------------------------------------- */
 typedef struct io_text {

@@ -94,11 +94,11 @@ io_status io_read_bin_file(const char *path, double **xyz, size_t *n, io_error *
     if (fd < 0) return io_fail(err, IO_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
     struct stat st;
     if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        /* directories, pipes: the generic path reports or handles them */
-        close(fd);
+        /* directories, pipes: the generic path reports or handles them, on this descriptor
+         * (a named pipe opened a second time waited for a second writer: NOTES.md E158) */
         char *buf;
         size_t len;
-        io_status s = io_load_file(path, &buf, &len, err);
+        io_status s = io_load_fd(fd, path, &buf, &len, err);
         if (s != IO_OK) return s;
         s = io_parse_bin(path, (const unsigned char *)buf, len, xyz, n, err);
         free(buf);
