@@ -11,7 +11,7 @@
  *   ball         n points uniform in the unit ball (rejection sampling)
  *   sphere       n points on the unit sphere (points of the ball projected onto it; rounding
  *                leaves them within an ulp of it, so they are not exactly co-spherical)
- *   grid         k^3 integer points {0..k-1}^3, k = round(cbrt(n)): massively co-spherical
+ *   grid         k^3 integer points {0..k-1}^3, k^3 the cube nearest n: massively co-spherical
  *   jittered     the same grid, each coordinate moved by a uniform amount in [-2^-20, 2^-20]
  *                (near-degenerate: the filters' hard case)
  *   cospherical  all integer solutions of x^2+y^2+z^2 = r^2 for a prime r ~ n/6 (about 6r
@@ -49,7 +49,7 @@ static const char *const helps[] = {
     "uniform in the unit cube [0,1)^3",
     "uniform in the unit ball",
     "on the unit sphere (within rounding)",
-    "integer grid k^3, k = round(cbrt(N))",
+    "integer grid k^3, the cube nearest N",
     "integer grid k^3 with each coordinate jittered by at most 2^-20",
     "integer solutions of x^2+y^2+z^2 = r^2, r prime ~ N/6 (about N points)",
     "(x, y, x^2+y^2) on an integer grid of about N points",
