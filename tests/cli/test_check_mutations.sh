@@ -28,6 +28,13 @@ mutant moved     '{ print }' 'NR == 2 { $2 = $2 + 50 } { print }'
 cp m.ele moved_in.ele
 awk 'NR == 2 { $2 = $2 + 1e-9 } { print }' m.node > moved_in.node
 expect 5 "check failed" -- "$G" check moved_in.ele --points in.bin
+# NOTES.md E159: a failed check of a file with skipped cells (not linear tetrahedra: here one
+# tet relabelled VTK_QUADRATIC_TETRA) says they were skipped; a file without them does not
+expect 0 "" -- "$G" triangulate in.bin -o m.vtu
+awk '/Name="types"/ { t = 1; print; next } t && $1 == 10 { print 24; t = 0; next } { print }' m.vtu > quad.vtu
+expect 5 "(1 cell of the file is not linear tetrahedra and was skipped" -- "$G" check quad.vtu
+expect 5 "check failed" -- "$G" check moved_in.ele --points in.bin
+grep -q "skipped" "$T/err" && fail "a note on skipped cells where there are none: $(cat "$T/err")"
 # NOTES.md E157: coordinates rounded by the writer (12 digits, as meshio's ASCII .vtu): the
 # message names the nearest vertex and asks whether they were rounded; a vertex far from
 # every input point gets the plain message
