@@ -892,24 +892,43 @@ static PyTypeObject MeshType = {
 /* Module                                                                                   */
 /* ---------------------------------------------------------------------------------------- */
 
+/* NaN and infinite coordinates have no sign, and the exact stage's GMP (mpz_set_d) raises
+ * SIGFPE on them: the interpreter died (NOTES.md E159b).  Refused here with a ValueError. */
+static int finite_points(const char *what, const double (*p)[3], int k)
+{
+    for (int i = 0; i < k; i++)
+        for (int j = 0; j < 3; j++)
+            if (!isfinite(p[i][j])) {
+                PyErr_Format(PyExc_ValueError, "%s: point %d has %s %c coordinate (the "
+                             "predicates take finite numbers)", what, i,
+                             isnan(p[i][j]) ? "a NaN" : "an infinite", "xyz"[j]);
+                return 0;
+            }
+    return 1;
+}
+
 static PyObject *py_orient3d(PyObject *self, PyObject *args)
 {
     (void)self;
-    double a[3], b[3], c[3], d[3];
-    if (!PyArg_ParseTuple(args, "(ddd)(ddd)(ddd)(ddd)", &a[0], &a[1], &a[2], &b[0], &b[1], &b[2],
-                          &c[0], &c[1], &c[2], &d[0], &d[1], &d[2]))
+    double p[4][3];
+    if (!PyArg_ParseTuple(args, "(ddd)(ddd)(ddd)(ddd)", &p[0][0], &p[0][1], &p[0][2], &p[1][0],
+                          &p[1][1], &p[1][2], &p[2][0], &p[2][1], &p[2][2], &p[3][0], &p[3][1],
+                          &p[3][2]))
         return NULL;
-    return PyLong_FromLong(gtet_orient3d(a, b, c, d));
+    if (!finite_points("orient3d", (const double (*)[3])p, 4)) return NULL;
+    return PyLong_FromLong(gtet_orient3d(p[0], p[1], p[2], p[3]));
 }
 
 static PyObject *py_insphere(PyObject *self, PyObject *args)
 {
     (void)self;
-    double a[3], b[3], c[3], d[3], e[3];
-    if (!PyArg_ParseTuple(args, "(ddd)(ddd)(ddd)(ddd)(ddd)", &a[0], &a[1], &a[2], &b[0], &b[1],
-                          &b[2], &c[0], &c[1], &c[2], &d[0], &d[1], &d[2], &e[0], &e[1], &e[2]))
+    double p[5][3];
+    if (!PyArg_ParseTuple(args, "(ddd)(ddd)(ddd)(ddd)(ddd)", &p[0][0], &p[0][1], &p[0][2],
+                          &p[1][0], &p[1][1], &p[1][2], &p[2][0], &p[2][1], &p[2][2], &p[3][0],
+                          &p[3][1], &p[3][2], &p[4][0], &p[4][1], &p[4][2]))
         return NULL;
-    return PyLong_FromLong(gtet_insphere(a, b, c, d, e));
+    if (!finite_points("insphere", (const double (*)[3])p, 5)) return NULL;
+    return PyLong_FromLong(gtet_insphere(p[0], p[1], p[2], p[3], p[4]));
 }
 
 static PyMethodDef module_methods[] = {

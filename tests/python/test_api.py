@@ -252,3 +252,30 @@ def test_orient3d_insphere_exact():
     assert gigatet.insphere(a, b, c, d, (0.2, 0.2, 0.2)) == 1
     tiny = 2.0 ** -1074
     assert gigatet.orient3d((0, 0, 0), (tiny, 0, 0), (0, tiny, 0), (0, 0, tiny)) == 1
+
+
+def test_predicates_refuse_nan_and_inf():
+    """NOTES.md E159b: a NaN or infinite coordinate reached GMP's mpz_set_d, which raises
+    SIGFPE: the interpreter died.  Run in a child so that the old crash fails the test."""
+    import subprocess
+    import sys
+    code = """if True:
+        import gigatet
+        a, b, c, d, e = (0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 1)
+        for bad in (float("nan"), float("inf"), -float("inf")):
+            for k in range(5):
+                pts = [list(p) for p in (a, b, c, d, e)]
+                pts[k][k % 3] = bad
+                for f, m in ((gigatet.orient3d, 4), (gigatet.insphere, 5)):
+                    if k >= m:
+                        continue
+                    try:
+                        f(*pts[:m])
+                    except ValueError as err:
+                        assert "point %d has" % k in str(err), err
+                    else:
+                        raise SystemExit("no ValueError for %r" % (pts[:m],))
+        print("ok")
+    """
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and r.stdout.strip() == "ok", (r.returncode, r.stdout, r.stderr)
