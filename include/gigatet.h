@@ -146,7 +146,7 @@ typedef struct gtet_mesh gtet_mesh;
 #define GTET_NO_TET UINT32_MAX
 
 typedef struct gtet_options {
-    int threads;        /* worker threads; 0 = all cores (default 0) */
+    int threads;        /* worker threads; 0 = all cores (default 0); at most 255 are used */
     int verbosity;      /* 0 silent; 1: one line per phase (validate, sort, insert, finalize,
                            check) with its seconds; 2: also one per BRIO round (points,
                            inserted, passes, threads, alpha of the first pass, seconds);

@@ -51,6 +51,36 @@ static void estimate_shape(void)
     TEST_CHECK(gtet_estimate_memory(0, NULL) > 0, "NULL options: the defaults");
 }
 
+/* NOTES.md E159c: more threads than the kernel's 255 are not counted (100000 threads made 100
+ * points "need" 97.7 GiB, refused), and such a run meshes with at most 255 */
+static void thread_count_capped(void)
+{
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = 255;
+    const size_t at255 = gtet_estimate_memory(100, &o);
+    o.threads = 100000;
+    TEST_CHECK(gtet_estimate_memory(100, &o) == at255, "100000 threads: %zu bytes, 255: %zu",
+               gtet_estimate_memory(100, &o), at255);
+    TEST_CHECK(gtet_memory_guard(100, &o) == GTET_OK, "100 points with 100000 threads refused");
+    double xyz[3 * 100];
+    uint64_t s = 7;
+    for (int i = 0; i < 300; i++) {
+        s = s * 6364136223846793005u + 1442695040888963407u;
+        xyz[i] = (double)(s >> 11) * 0x1p-53;
+    }
+    gtet_mesh *m = NULL;
+    gtet_error err;
+    o.error = &err;
+    TEST_CHECK(gtet_triangulate(xyz, 100, &o, &m) == GTET_OK, "100000 threads: %s", err.message);
+    if (m) {
+        gtet_stats st;
+        gtet_mesh_stats(m, &st);
+        TEST_CHECK(st.threads >= 1 && st.threads <= 255, "threads used: %d", st.threads);
+    }
+    gtet_mesh_free(&m);
+}
+
 static gtet_status guard(size_t n, const mem_room *room, size_t limit, gtet_error *err)
 {
     gtet_options o;
@@ -379,6 +409,7 @@ static void populate_maps_whole_pages(void)
 int main(void)
 {
     TU_RUN(estimate_shape);
+    TU_RUN(thread_count_capped);
     TU_RUN(guard_names_the_limit);
     TU_RUN(guard_credits_the_freed_input);
     TU_RUN(growth_is_cut_or_refused);

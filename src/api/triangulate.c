@@ -97,6 +97,10 @@ static gtet_status prepare(run *r, gtet_mesh **out)
     }
     r->t_start = omp_get_wtime();
     r->threads = r->opts.threads ? r->opts.threads : omp_get_max_threads();
+    /* the kernel runs at most 255 (its colours are bytes, build.c): so do validate and sort, and
+     * the memory guard counts no more (NOTES.md E159c: threads = 100000 was refused as needing
+     * 97.7 GiB for 100 points, 5000 spawned 5000 threads in each OpenMP stage) */
+    if (r->threads > 255) r->threads = 255;
     /* refuse a run that cannot fit before any big allocation (memory.c) */
     gtet_status s = mem_guard(r->n, r->threads, &r->opts, r->err);
     if (s != GTET_OK) return s;
