@@ -28,6 +28,11 @@ mutant moved     '{ print }' 'NR == 2 { $2 = $2 + 50 } { print }'
 cp m.ele moved_in.ele
 awk 'NR == 2 { $2 = $2 + 1e-9 } { print }' m.node > moved_in.node
 expect 5 "check failed" -- "$G" check moved_in.ele --points in.bin
+# NOTES.md E159d: the message numbers tets and vertices from 0 in file order; gigatet's .ele
+# is 1-based, so the failure says so (the swapped tet is the file's tet 1, named 'tet 0')
+expect 5 "tet 0 (" -- "$G" check swapped.ele
+grep -qF "[tets and vertices are numbered from 0 in the order of the file's .ele and .node, not by its own ids: add 1 for a 1-based file]" "$T/err" ||
+    fail "swapped: no numbering note: $(cat "$T/err")"
 # NOTES.md E159: a failed check of a file with skipped cells (not linear tetrahedra: here one
 # tet relabelled VTK_QUADRATIC_TETRA) says they were skipped; a file without them does not
 expect 0 "" -- "$G" triangulate in.bin -o m.vtu
