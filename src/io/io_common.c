@@ -15,6 +15,7 @@
 #include <errno.h>
 #include <stdatomic.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -408,8 +409,22 @@ io_status io_out_open(io_out *o, const char *path, io_error *err)
     struct timespec ts;
     clock_gettime(CLOCK_REALTIME, &ts);
     unsigned long salt = (unsigned long)ts.tv_nsec;
+    /* the temporary's name keeps at most 200 bytes of the final name's last component, so
+     * that its suffix (".tmp-PID-N", up to 47 bytes) never takes a valid name past NAME_MAX
+     * (255): a 244-byte name failed with "File name too long" (NOTES.md E159e) */
+    const char *slash = strrchr(path, '/');
+    const size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0;
+    const size_t baselen = strlen(path + dirlen) < 200 ? strlen(path + dirlen) : 200;
+    if (strlen(path + dirlen) > NAME_MAX) {   /* refused now, not at the rename after the work */
+        free(o->tmp);
+        o->tmp = NULL;
+        return io_fail(err, IO_ERR_WRITE, "%s: cannot create the output file: %s (its name "
+                       "has %zu bytes, at most %d)", path, strerror(ENAMETOOLONG),
+                       strlen(path + dirlen), NAME_MAX);
+    }
     for (int attempt = 0; attempt < 100; attempt++) {
-        snprintf(o->tmp, cap, "%s.tmp-%ld-%lu", path, (long)getpid(), salt + (unsigned long)attempt);
+        snprintf(o->tmp, cap, "%.*s%.*s.tmp-%ld-%lu", (int)dirlen, path, (int)baselen,
+                 path + dirlen, (long)getpid(), salt + (unsigned long)attempt);
         live_add(o->tmp);   /* before the file exists: a signal at any time after finds it */
         int fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
         if (fd < 0) {

@@ -71,6 +71,20 @@ for s in INT TERM HUP; do
 done
 set +m
 
+# NOTES.md E159e: a valid output name of 240-255 bytes: its temporary (NAME.tmp-PID-N) went
+# past NAME_MAX and the run failed with 'File name too long'; a name past NAME_MAX itself is
+# refused before the work, saying so
+mkdir long
+long=$(printf 'a%.0s' $(seq 247))
+for o in vtu ele; do
+    expect 0 "" -- "$G" triangulate in.xyz -o "long/$long.$o"
+    [ -s "long/$long.$o" ] || fail "long name .$o: no output"
+done
+[ "$(ls -A long | wc -l)" -eq 3 ] || fail "long names left: $(listing long)"
+rm -f long/*
+expect 2 "(its name has 256 bytes, at most 255)" -- "$G" triangulate in.xyz -o "long/${long}aaaaa.vtu"
+[ -z "$(listing long)" ] || fail "a refused long name left: $(listing long)"
+
 # the mesh must not overwrite its own input (NAME.node for NAME.ele)
 cp in.xyz tmp.xyz
 "$G" generate uniform 50 -o pts.node -q
