@@ -94,7 +94,7 @@ static const char *skipped_note(const char *path, const io_mesh *m, const gtet_c
     buf[0] = '\0';
     if (m->skipped_cells)
         snprintf(buf, size, " (%zu cell%s of the file %s not linear tetrahedra and %s skipped: "
-                 "quadratic tets, hexahedra, prisms, pyramids are not checked)", m->skipped_cells,
+                 "points, lines, triangles, quadratic tets, hexahedra, ...)", m->skipped_cells,
                  m->skipped_cells == 1 ? "" : "s", m->skipped_cells == 1 ? "is" : "are",
                  m->skipped_cells == 1 ? "was" : "were");
     /* The numbers in the message are 0-based positions in the file (the checker sees arrays):
