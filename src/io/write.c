@@ -11,10 +11,33 @@
  * 0-based.  Tets are written as given: gigatet's tets have orient3d > 0, the orientation of
  * Gmsh's and VTK's reference tetrahedron (0,0,0),(1,0,0),(0,1,0),(0,0,1), and of TetGen's output.
  */
+#define _POSIX_C_SOURCE 200809L   /* newlocale, uselocale */
 #include "io_internal.h"
 
+#include <locale.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* Numbers are written in the C locale whatever the program set: under a locale with a decimal
+ * comma (Python's locale.setlocale(LC_ALL, "de_DE.UTF-8")) "%.17g" wrote 0,5118, a file
+ * every reader takes as junk, with success (NOTES.md E159f).  Per thread (uselocale), so
+ * other threads of the program keep theirs. */
+typedef struct c_numeric {
+    locale_t c, old;
+} c_numeric;
+
+static void c_numeric_enter(c_numeric *l)
+{
+    l->c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
+    l->old = l->c ? uselocale(l->c) : (locale_t)0;
+}
+
+static void c_numeric_leave(c_numeric *l)
+{
+    if (!l->c) return;
+    uselocale(l->old);
+    freelocale(l->c);
+}
 
 static char *fmt_d(char *p, double v)
 {
@@ -71,7 +94,7 @@ static void write_binary_doubles(FILE *f, const double *xyz, size_t n)
     }
 }
 
-io_status io_write_points(const char *path, const double *xyz, size_t n, io_error *err)
+static io_status write_points(const char *path, const double *xyz, size_t n, io_error *err)
 {
     io_format fmt = io_format_of(path);
     char list[128];
@@ -198,8 +221,8 @@ static void write_vtu(FILE *f, const double *v, size_t nv, const uint32_t *tets,
     fprintf(f, "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
 }
 
-io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
-                        const uint32_t *tets, size_t nt, io_error *err)
+static io_status write_mesh(const char *path, const double *vertices, size_t nv,
+                            const uint32_t *tets, size_t nt, io_error *err)
 {
     io_format fmt = io_format_of(path);
     char list[128];
@@ -253,5 +276,24 @@ io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
 fail:
     io_out_abort(&on);
     free(node_path);
+    return s;
+}
+
+io_status io_write_points(const char *path, const double *xyz, size_t n, io_error *err)
+{
+    c_numeric l;
+    c_numeric_enter(&l);
+    io_status s = write_points(path, xyz, n, err);
+    c_numeric_leave(&l);
+    return s;
+}
+
+io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
+                        const uint32_t *tets, size_t nt, io_error *err)
+{
+    c_numeric l;
+    c_numeric_enter(&l);
+    io_status s = write_mesh(path, vertices, nv, tets, nt, err);
+    c_numeric_leave(&l);
     return s;
 }

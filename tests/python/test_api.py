@@ -211,6 +211,44 @@ def test_write_every_format(tmp_path):
         assert coord_set(m.points, tets) == coord_set(d.points, d.simplices)
 
 
+def test_write_ignores_a_decimal_comma_locale(tmp_path):
+    """NOTES.md E159f: under locale.setlocale(LC_ALL, "de_DE.UTF-8") write() printed
+    coordinates as 0,5118... (the C library's %g follows LC_NUMERIC): files every reader
+    rejects or misreads, written with success.  The locale is compiled into tmp_path with
+    localedef (libc-bin); a child process sets it, since setlocale is process-wide."""
+    import shutil
+    import subprocess
+    import sys
+    loc = tmp_path / "loc"
+    loc.mkdir()
+    if not shutil.which("localedef") or not os.path.isdir("/usr/share/i18n/locales"):
+        pytest.skip("LOUDLY: no localedef or locale sources to build de_DE.UTF-8")
+    r = subprocess.run(["localedef", "-i", "de_DE", "-f", "UTF-8", str(loc / "de_DE.UTF-8")],
+                       capture_output=True, text=True)
+    if not (loc / "de_DE.UTF-8").exists():
+        pytest.skip("LOUDLY: localedef could not build de_DE.UTF-8: %s" % r.stderr[-300:])
+    code = """if True:
+        import locale, sys, numpy as np, gigatet
+        locale.setlocale(locale.LC_ALL, "de_DE.UTF-8")
+        assert locale.localeconv()["decimal_point"] == ","
+        d = gigatet.Delaunay(np.random.default_rng(1).random((50, 3)))
+        for ext in (".vtu", ".ele", ".msh"):
+            d.write(sys.argv[1] + "/m" + ext)
+        print("ok")
+    """
+    env = dict(os.environ, LOCPATH=str(loc))
+    r = subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True,
+                       text=True, env=env, timeout=60)
+    assert r.returncode == 0 and r.stdout.strip() == "ok", (r.stdout, r.stderr)
+    for name in ("m.vtu", "m.node", "m.msh"):
+        text = (tmp_path / name).read_text()
+        assert "," not in text, "%s has a decimal comma: %s" % (name, text[:300])
+    meshio = pytest.importorskip("meshio")
+    m = meshio.read(str(tmp_path / "m.vtu"))
+    assert np.array_equal(np.sort(m.points, axis=0),
+                          np.sort(np.random.default_rng(1).random((50, 3)), axis=0))
+
+
 def test_to_meshio():
     meshio = pytest.importorskip("meshio")
     d = gigatet.Delaunay(cube_points(100))
