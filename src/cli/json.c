@@ -38,6 +38,23 @@ void cli_json_pred_counters(FILE *f, const gtet_pred_counters *p)
     fputc('}', f);
 }
 
+/* The length (2-4) of the well-formed UTF-8 sequence at p, or 0 (RFC 3629: no overlong
+ * forms, no surrogates, nothing past U+10FFFF). */
+static int utf8_len(const unsigned char *p)
+{
+    const unsigned c = p[0];
+    int n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+    if (!n) return 0;
+    for (int i = 1; i < n; i++)
+        if ((p[i] & 0xC0) != 0x80) return 0;   /* the NUL ends it too */
+    if ((c == 0xE0 && p[1] < 0xA0) || (c == 0xED && p[1] > 0x9F) || (c == 0xF0 && p[1] < 0x90) ||
+        (c == 0xF4 && p[1] > 0x8F))
+        return 0;
+    return n;
+}
+
+/* A JSON string; bytes that are not UTF-8 (a file name is any bytes) become U+FFFD, so that
+ * the output stays JSON, which is UTF-8 (NOTES.md E159g). */
 void cli_json_str(FILE *f, const char *s)
 {
     if (!s) {
@@ -46,9 +63,16 @@ void cli_json_str(FILE *f, const char *s)
     }
     fputc('"', f);
     for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        int n;
         if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p);
         else if (*p < 0x20) fprintf(f, "\\u%04x", *p);
-        else fputc(*p, f);
+        else if (*p < 0x80) fputc(*p, f);
+        else if ((n = utf8_len(p)) != 0) {
+            fwrite(p, 1, (size_t)n, f);
+            p += n - 1;
+        } else {
+            fputs("\\ufffd", f);
+        }
     }
     fputc('"', f);
 }

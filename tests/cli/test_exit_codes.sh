@@ -121,6 +121,22 @@ expect 2 "bad.ele:2: vertex id 9" -- "$G" check bad.ele
 expect 2 "nodir/out.msh" -- "$G" triangulate ok.xyz -o nodir/out.msh
 expect 2 "nodir/g.bin" -- "$G" generate uniform 10 -o nodir/g.bin
 
+# NOTES.md E159g: --json stays JSON (UTF-8) when a file name is not UTF-8: the bytes passed
+# through raw and a JSON parser refused the report
+if py=$(find_python json); then
+    bad=$'name\xff\xc3.vtu'
+    "$G" triangulate ok.xyz -o "$bad" -q || fail "triangulate to a non-UTF-8 name"
+    for args in "check $bad --json" "check missing$bad --json" "diff $bad $bad --json"; do
+        # shellcheck disable=SC2086
+        "$G" $args > "$T/json" 2>/dev/null
+        "$py" -c 'import json, sys; json.loads(open(sys.argv[1], "rb").read())' "$T/json" &&
+            pass "$args: JSON" || fail "$args: not JSON: $(head -c 300 "$T/json")"
+    done
+    rm -f "$bad"
+else
+    echo "NOTE: no python3 to parse --json with: the non-UTF-8 name case is not run"
+fi
+
 # ---- 3: degenerate input (needs the kernel)
 printf '0 0 0\n1 0 0\n0 1 0\n' > three.xyz
 expect 3 "three.xyz" -- "$G" triangulate three.xyz
