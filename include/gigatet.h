@@ -79,10 +79,10 @@ typedef struct gtet_error {
 /* ------------------------------------------------------------------------------------------ */
 /* Predicates (exact for all finite doubles, denormals and 2^1000 included)                  */
 /* ------------------------------------------------------------------------------------------ */
-/* Every coordinate must be finite: NaN and infinities have no sign, and an exact stage would
- * hand them to GMP, whose mpz_set_d raises SIGFPE (the process dies).  Check with isfinite()
- * first; gtet_triangulate and gtet_check do (GTET_ERR_NONFINITE); Python's gigatet.orient3d
- * and gigatet.insphere raise ValueError. */
+/* For finite coordinates.  NaN and infinities have no sign: when any coordinate is NaN or
+ * infinite, each predicate below returns 0 and computes nothing (it never reaches the exact
+ * stages).  gtet_triangulate and gtet_check reject such points (GTET_ERR_NONFINITE); Python's
+ * gigatet.orient3d and gigatet.insphere raise ValueError. */
 
 /* Sign of det[b-a; c-a; d-a]: +1 when (a,b,c,d) is positively oriented, as (0, e_x, e_y, e_z)
  * is; -1 for the mirror image; 0 when the four points are coplanar. */

@@ -540,6 +540,28 @@ static void test_122_bit_integer_form_match_oracle(void)
     }
 }
 
+/* A NaN or infinite coordinate anywhere: every public predicate answers 0 and returns (it used
+ * to reach GMP's mpz_set_d, whose SIGFPE killed the caller: NOTES.md E160). */
+static void test_nonfinite_coordinates_give_0_not_a_crash(void)
+{
+    const double bad[3] = {NAN, INFINITY, -INFINITY};
+    for (int slot = 0; slot < 5; slot++)
+        for (int axis = 0; axis < 3; axis++)
+            for (int k = 0; k < 3; k++) {
+                double p[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.2, 0.2, 0.2}};
+                p[slot][axis] = bad[k];
+                const int o = gtet_orient3d(p[0], p[1], p[2], p[slot < 4 ? 3 : slot]);
+                const int i = gtet_insphere(p[0], p[1], p[2], p[3], p[4]);
+                const int s = gtet_insphere_sos(p[0], p[1], p[2], p[3], p[4]);
+                const int g = gtet_ghost_conflict(p[0], p[1], p[2], p[slot == 3 ? 3 : 4]);
+                TEST_CHECK(o == 0 && i == 0 && s == 0 && g == 0,
+                           "point %d axis %d = %g: orient %d insphere %d sos %d ghost %d", slot,
+                           axis, bad[k], o, i, s, g);
+            }
+    double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0}, d[3] = {0, 0, 1};
+    TEST_CHECK(gtet_orient3d(a, b, c, d) == 1, "finite points still have their sign");
+}
+
 int main(void)
 {
     TU_RUN(test_random_unit_doubles_match_oracle);
@@ -553,5 +575,6 @@ int main(void)
     TU_RUN(test_axis_aligned_planes_match_oracle);
     TU_RUN(test_wide_integer_form_at_its_limits_match_oracle);
     TU_RUN(test_122_bit_integer_form_match_oracle);
+    TU_RUN(test_nonfinite_coordinates_give_0_not_a_crash);
     return tu_finish();
 }
