@@ -252,6 +252,8 @@ void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3])
 
 /* one round's queries: new tets / hull facets with a tile vertex, to every rank whose box
  * they may reach; returns them per rank in out[], and the round's queried keys in R->prev */
+#define QPF 16
+
 static gtet_status make_queries(run *R, vec *out)
 {
     int P = R->c.size, me = R->c.rank;
@@ -272,6 +274,10 @@ static gtet_status make_queries(run *R, vec *out)
      * the layer widths only (D3) */
     for (size_t t = R->qfrom; t < nt; t++) {
         const uint32_t *v = tv + 4 * t;
+        /* the points of a tet QPF further on fetched now: S's records are read at random
+         * (tets in the kernel's order, points in the tile's), a cache miss each (NOTES E131) */
+        if (t + QPF < nt)
+            for (int i = 0; i < 4; i++) __builtin_prefetch(&R->sp[v[4 * QPF + i]]);
         if (v[0] >= m && v[1] >= m && v[2] >= m && v[3] >= m) continue;
         /* the tet */
         for (int pass = 0; pass < 5; pass++) {
