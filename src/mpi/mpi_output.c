@@ -78,12 +78,12 @@ static int compact_tet(const run *R, outx *X, uint32_t *tv, uint32_t *nb, size_t
     uint32_t v[4], n[4];
     memcpy(v, tv + 4 * t, sizeof v);
     memcpy(n, nb + 4 * t, sizeof n);
+    unsigned tile = 0;   /* bit i: vertex i is a tile point */
+    for (int i = 0; i < 4; i++) tile |= (unsigned)(v[i] < m) << i;
     for (int f = 0; f < 4; f++) {
         X->used[v[f]] = 1;
         uint32_t u = n[f];
-        int tilev = 0;
-        for (int i = 0; i < 4; i++)
-            if (i != f && v[i] < m) tilev = 1;
+        int tilev = (tile & ~(1u << f)) != 0;   /* facet f has a tile vertex */
         if (u != GTET_NO_TET && X->lid[u] != NOLID) {
             nb[4 * o + (size_t)f] = X->lid[u];        /* both owned here: final (D7) */
         } else {
