@@ -141,18 +141,20 @@ static gtet_status cell_boxes(run *R, size_t cells)
     G->cb = mx_malloc((6 * cells + 1) * sizeof *G->cb);
     if (!G->cb) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
     for (size_t ci = 0; ci < cells; ci++) {
-        float *b = G->cb + 6 * ci;
-        for (int k = 0; k < 3; k++) {
-            b[k] = INFINITY;
-            b[3 + k] = -INFINITY;
-        }
+        /* the points' box in doubles, then rounded outward once: float_out is monotone, so
+         * this is the box of the points' rounded coordinates */
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++)
             for (int k = 0; k < 3; k++) {
                 double x = R->tile[j].x[k];
-                float lo = float_out(x, -1), hi = float_out(x, 1);
-                b[k] = lo < b[k] ? lo : b[k];
-                b[3 + k] = hi > b[3 + k] ? hi : b[3 + k];
+                lo[k] = x < lo[k] ? x : lo[k];
+                hi[k] = x > hi[k] ? x : hi[k];
             }
+        float *b = G->cb + 6 * ci;
+        for (int k = 0; k < 3; k++) {
+            b[k] = lo[k] == INFINITY ? INFINITY : float_out(lo[k], -1);
+            b[3 + k] = hi[k] == -INFINITY ? -INFINITY : float_out(hi[k], 1);
+        }
     }
     return GTET_OK;
 }
