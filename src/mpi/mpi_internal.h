@@ -177,7 +177,15 @@ typedef struct query {
 } query;
 
 /* containers (mpi_util.c) */
-uint64_t mx_mix64(uint64_t x);
+/* splitmix64's finaliser; inline: the dedup, the hash sets and the patch's facet map call it
+ * for every record (NOTES.md E135) */
+static inline uint64_t mx_mix64(uint64_t x)
+{
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
 int mx_hs_grow(hset *h, size_t cap);          /* 0, or -1 out of memory */
 int mx_hs_add(hset *h, uint64_t key);         /* 1 inserted, 0 present, -1 out of memory */
 int mx_hs_has(const hset *h, uint64_t key);
