@@ -39,7 +39,7 @@ typedef struct kmesh {
     size_t nt;          /* slots in use (live and deleted) */
     size_t cap;         /* slots allocated */
     int wide;           /* nonzero: tv and tn each allocated with room for 32 bytes a slot and
-                           8 more (twice what the slots take; the pages past the slots in use
+                           16 more (twice what the slots take; the pages past the slots in use
                            are never touched), and km_finalize hands them over unshrunk: the
                            distributed mode widens the result to 64-bit entries where it lies
                            (gtet_triangulate_wide, src/mpi/mpi_output.c, NOTES.md E130) */

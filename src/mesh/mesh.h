@@ -36,7 +36,7 @@ struct gtet_mesh {
 size_t gtet_mesh_take_arrays(gtet_mesh *m, uint32_t **tets, uint32_t **neighbors);
 
 /* Internal (not in gigatet.h): gtet_triangulate, the same mesh, whose tet and neighbour arrays
- * are each allocated with room for 32 bytes a tet slot and 8 more, twice what the working mesh
+ * are each allocated with room for 32 bytes a tet slot and 16 more, twice what the working mesh
  * takes (the pages never written stay unmapped), and handed over unshrunk: their
  * malloc_usable_size is then at least 8 * (4 * n_tets + 1) bytes.  For the distributed mode,
  * which widens the local mesh's rows to its 64-bit result where they lie
