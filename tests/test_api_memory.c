@@ -5,7 +5,8 @@
  * "unlimited" value, MemAvailable), and gtet_triangulate refusing at once through
  * gtet_options.memory_limit (or running with the guard off); the big arrays' pages
  * (src/base/hugepages.c): huge pages asked for from a block's first byte, and pages mapped ahead
- * of use exactly inside the range given (NOTES.md E110, E111). */
+ * of use exactly inside the range given (NOTES.md E110, E111); gtet_triangulate_wide's arrays
+ * (the distributed mode's hook, src/mesh/mesh.h) with room for 64-bit rows (NOTES.md E130). */
 #define _DEFAULT_SOURCE /* madvise, mincore, MAP_ANONYMOUS */
 #include <math.h>
 #include <stdio.h>
@@ -15,9 +16,13 @@
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "../src/api/memory.h"
 #include "../src/base/base.h"
+#include "../src/mesh/mesh.h"
 #include "gigatet.h"
 #include "testutil.h"
 
@@ -406,6 +411,58 @@ static void populate_maps_whole_pages(void)
     munmap(p, n * page);
 }
 
+/* gtet_triangulate_wide (src/mesh/mesh.h): the same mesh as gtet_triangulate, its tet and
+ * neighbour arrays handed over with room for 8 * (4 * n_tets + 1) bytes each, which the
+ * distributed mode widens its result into where they lie (src/mpi/mpi_output.c, NOTES.md
+ * E130); gtet_triangulate's own stay shrunk to the tets (16 B a tet).  Uniform points fit the
+ * first capacity (7 slots a point); points on a paraboloid (~15 tets a point) grow the arrays
+ * (kmesh.c km_reserve), which must keep the room too. */
+static void wide_arrays_keep_room(void)
+{
+    const size_t n = 20000;
+    double *xyz = malloc(3 * n * sizeof *xyz);
+    TEST_REQUIRE(xyz != NULL, "allocation");
+    tu_rng rng = {11};
+    for (int kind = 0; kind < 2; kind++) {
+        for (size_t i = 0; i < n; i++) {
+            double *p = xyz + 3 * i;
+            for (int k = 0; k < 3; k++) p[k] = tu_uniform(&rng);
+            if (kind == 1) {  /* on the paraboloid z = x^2 + y^2, exactly: integers */
+                p[0] = floor(p[0] * 1024);
+                p[1] = floor(p[1] * 1024);
+                p[2] = p[0] * p[0] + p[1] * p[1];
+            }
+        }
+        gtet_options o;
+        gtet_options_init(&o);
+        o.threads = 1;
+        gtet_mesh *plain = NULL, *wide = NULL;
+        TEST_REQUIRE(gtet_triangulate(xyz, n, &o, &plain) == GTET_OK, "kind %d: plain", kind);
+        TEST_REQUIRE(gtet_triangulate_wide(xyz, n, &o, &wide) == GTET_OK, "kind %d: wide", kind);
+        const size_t nt = gtet_mesh_num_tets(plain);
+        TEST_REQUIRE(nt > 0 && gtet_mesh_num_tets(wide) == nt, "kind %d: %zu and %zu tets", kind,
+                     nt, gtet_mesh_num_tets(wide));
+        TEST_CHECK(kind == 0 || nt > 8 * n, "kind %d: %zu tets do not grow the arrays", kind, nt);
+        TEST_CHECK(memcmp(gtet_mesh_tets(plain), gtet_mesh_tets(wide), 16 * nt) == 0 &&
+                       memcmp(gtet_mesh_neighbors(plain), gtet_mesh_neighbors(wide), 16 * nt) == 0,
+                   "kind %d: the meshes differ", kind);
+#if defined(__GLIBC__)
+        const size_t room = 8 * (4 * nt + 1);
+        TEST_CHECK(malloc_usable_size(wide->tets) >= room &&
+                       malloc_usable_size(wide->neighbors) >= room,
+                   "kind %d: wide arrays of %zu and %zu bytes, %zu needed", kind,
+                   malloc_usable_size(wide->tets), malloc_usable_size(wide->neighbors), room);
+        TEST_CHECK(malloc_usable_size(plain->tets) < room / 2 + 4096 &&
+                       malloc_usable_size(plain->neighbors) < room / 2 + 4096,
+                   "kind %d: plain arrays of %zu and %zu bytes for %zu tets", kind,
+                   malloc_usable_size(plain->tets), malloc_usable_size(plain->neighbors), nt);
+#endif
+        gtet_mesh_free(&plain);
+        gtet_mesh_free(&wide);
+    }
+    free(xyz);
+}
+
 int main(void)
 {
     TU_RUN(estimate_shape);
@@ -418,5 +475,6 @@ int main(void)
     TU_RUN(parallel_run_does_not_grow);
     TU_RUN(big_blocks_ask_for_huge_pages);
     TU_RUN(populate_maps_whole_pages);
+    TU_RUN(wide_arrays_keep_room);
     return tu_finish();
 }

@@ -37,7 +37,7 @@ static void test_hull_walk_finds_a_visible_facet_from_every_ghost(void)
         on_sphere(&r, i < NS ? 1.0 : i < NS + NQ / 2 ? 1.25 : 0.5, pts[i]);
     kmesh m;
     kctx c;
-    TEST_REQUIRE(km_init(&m, &pts[0][0], NS + NQ, 4096, 1) == GTET_OK, "km_init");
+    TEST_REQUIRE(km_init(&m, &pts[0][0], NS + NQ, 4096, 1, 0) == GTET_OK, "km_init");
     kctx_init(&c, &m, 7);
     TEST_REQUIRE(km_first_tet(&c, 0, 1, 2, 3) == GTET_OK, "first tet");
     for (uint32_t i = 4; i < NS; i++) {

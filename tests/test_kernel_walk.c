@@ -50,7 +50,7 @@ static void run(int parallel)
     kmesh m;
     kctx c;
     uint8_t colour[5] = {0, 0, 0, 0, 0};
-    TEST_REQUIRE(km_init(&m, &pts[0][0], 5, 8 * KM_SLOT_BLOCK, 1) == GTET_OK, "km_init");
+    TEST_REQUIRE(km_init(&m, &pts[0][0], 5, 8 * KM_SLOT_BLOCK, 1, 0) == GTET_OK, "km_init");
     kctx_init(&c, &m, 7);
     TEST_REQUIRE(km_first_tet(&c, 0, 1, 2, 3) == GTET_OK, "first tet");
     const uint32_t g = ghost_on_far_facet(&m);

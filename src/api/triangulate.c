@@ -44,6 +44,7 @@ typedef struct run {
     int num_rounds;
     double t_start, t_validated, t_sorted, t_inserted, t_done;
     mem_grow grow;         /* the memory guard's second check (memory.h) */
+    int wide;              /* gtet_triangulate_wide (src/mesh/mesh.h) */
 } run;
 
 static void say(const run *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -176,6 +177,7 @@ static gtet_status build(run *r)
     in.progress_user = r->opts.progress_user;
     in.cancel = r->opts.cancel;
     in.cancel_user = r->opts.cancel_user;
+    in.wide = r->wide;
     if (r->opts.memory_limit == 0) {  /* the guard's default mode: checked again on growth */
         r->grow = (mem_grow){res->n_vertices, r->err, "/proc", "/sys"};
         in.grow_guard = mem_grow_guard;
@@ -217,11 +219,12 @@ static gtet_status finish(run *r)
     return s;
 }
 
-gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *opts_in,
-                             gtet_mesh **out)
+static gtet_status triangulate(const double *xyz, size_t n, const gtet_options *opts_in,
+                               int wide, gtet_mesh **out)
 {
     run r;
     memset(&r, 0, sizeof r);
+    r.wide = wide;
     r.xyz = xyz;
     r.n = n;
     if (opts_in) r.opts = *opts_in;
@@ -244,4 +247,16 @@ gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *op
     }
     *out = r.res;
     return GTET_OK;
+}
+
+gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *opts_in,
+                             gtet_mesh **out)
+{
+    return triangulate(xyz, n, opts_in, 0, out);
+}
+
+gtet_status gtet_triangulate_wide(const double *xyz, size_t n, const gtet_options *opts_in,
+                                  gtet_mesh **out)
+{
+    return triangulate(xyz, n, opts_in, 1, out);
 }

@@ -194,7 +194,7 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
         free(b->res->vertices);
         b->res->vertices = NULL;
     }
-    gtet_status s = km_init(&b->m, sv, nv, hint, threads);
+    gtet_status s = km_init(&b->m, sv, nv, hint, threads, in->wide);
     if (s != GTET_OK) return s;
     if (nv >= KBUILD_HOLD_ONCE_MIN) prefault_slots(&b->m, nv, threads);
     b->m.grow_guard = in->grow_guard;

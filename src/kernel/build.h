@@ -38,6 +38,7 @@ typedef struct kbuild_in {
     gtet_status (*grow_guard)(void *user, size_t used_bytes, size_t cap_bytes, size_t min_bytes,
                               size_t *want_bytes);
     void *grow_user;
+    int wide;                /* the tet arrays with room to widen them (kmesh.h wide) */
 } kbuild_in;
 
 /* From this many distinct points on, the kernel frees the result's vertices while its sorted

@@ -126,7 +126,7 @@ gtet_status km_finalize(kmesh *m, uint32_t **tets, uint32_t **nbrs, size_t *ntet
 #pragma omp parallel for num_threads(T) schedule(static) if (T > 1)
     for (size_t i = 0; i < n4; i++) tn[i] = tn[i] == KM_HULL ? GTET_NO_TET : tn[i] >> 2;
 
-    if (live) {
+    if (live && !m->wide) {  /* wide: handed over with their room (kmesh.h) */
         uint32_t *a = realloc(tv, 4 * live * sizeof *a);
         if (a) tv = a;
         uint32_t *b = realloc(tn, 4 * live * sizeof *b);

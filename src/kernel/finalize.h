@@ -5,7 +5,8 @@
 #include "kmesh.h"
 
 /* Hands the mesh's tv/tn arrays over as *tets / *nbrs (finite tets only, GTET_NO_TET on the
- * hull) and empties m; up to `threads` threads (same result for any count). */
+ * hull; shrunk to them by realloc unless m->wide) and empties m; up to `threads` threads (same
+ * result for any count). */
 gtet_status km_finalize(kmesh *m, uint32_t **tets, uint32_t **nbrs, size_t *ntets,
                         size_t *nhull, int threads);
 

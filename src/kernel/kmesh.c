@@ -16,9 +16,16 @@
  * aligned splits the huge pages (1M -t 2 peaked at 412 MB RSS instead of 290, NOTES.md Q7),
  * which is why build.c asks, with threads, for the capacity the parallel rounds' reserve
  * will want. */
-static gtet_status first_arrays(kmesh *m, size_t slots)
+/* bytes allocated for each of tv and tn with room for `slots` slots (kmesh.wide: twice) */
+static size_t array_bytes(const kmesh *m, size_t slots)
 {
     const size_t bytes = 4 * slots * sizeof *m->tv;
+    return m->wide ? 2 * bytes + 2 * sizeof(uint64_t) : bytes;
+}
+
+static gtet_status first_arrays(kmesh *m, size_t slots)
+{
+    const size_t bytes = array_bytes(m, slots);
     uint32_t *tv = base_alloc_huge(bytes);
     uint32_t *tn = tv ? base_alloc_huge(bytes) : NULL;
     if (!tv || !tn) {
@@ -47,19 +54,21 @@ gtet_status km_reserve(kmesh *m, size_t slots)
         if (s != GTET_OK) return s;
         if (want / slot < cap) cap = want / slot < slots ? slots : want / slot;
     }
-    uint32_t *tv = realloc(m->tv, 4 * cap * sizeof *tv);
+    uint32_t *tv = realloc(m->tv, array_bytes(m, cap));
     if (!tv) return GTET_ERR_OUT_OF_MEMORY;
     m->tv = tv;
-    uint32_t *tn = realloc(m->tn, 4 * cap * sizeof *tn);
+    uint32_t *tn = realloc(m->tn, array_bytes(m, cap));
     if (!tn) return GTET_ERR_OUT_OF_MEMORY;
     m->tn = tn;
     m->cap = cap;
     return GTET_OK;
 }
 
-gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint, int threads)
+gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint, int threads,
+                    int wide)
 {
     memset(m, 0, sizeof *m);
+    m->wide = wide;
     m->v = v;
     m->nv = nv;
     pred_static_init_mt(v, 3, nv, threads, &m->ps, m->box);  /* every point tested is a vertex */

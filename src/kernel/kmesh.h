@@ -38,6 +38,11 @@ typedef struct kmesh {
     uint32_t *tn;
     size_t nt;          /* slots in use (live and deleted) */
     size_t cap;         /* slots allocated */
+    int wide;           /* nonzero: tv and tn each allocated with room for 32 bytes a slot and
+                           16 more (twice what the slots take; the pages past the slots in use
+                           are never touched), and km_finalize hands them over unshrunk: the
+                           distributed mode widens the result to 64-bit entries where it lies
+                           (gtet_triangulate_wide, src/mpi/mpi_output.c, NOTES.md E130) */
     uint8_t *vloc;      /* cavity-local id of each vertex (scratch, nv bytes) */
     pred_static ps;     /* static bounds / lattice exactness for these vertices (pred.h) */
     double box[6];      /* their bounding box (min x, y, z, max x, y, z) */
@@ -102,7 +107,8 @@ static inline void km_kill(kmesh *m, size_t t) { m->tv[4 * t] |= KM_DEAD; }
 static inline void km_revive(kmesh *m, size_t t) { m->tv[4 * t] &= ~KM_DEAD; }
 static inline const double *km_pt(const kmesh *m, uint32_t v) { return m->v + 3 * (size_t)v; }
 
-gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint, int threads);
+gtet_status km_init(kmesh *m, const double *v, size_t nv, size_t slots_hint, int threads,
+                    int wide);
 void km_free(kmesh *m);
 gtet_status km_reserve(kmesh *m, size_t slots);
 

@@ -35,4 +35,13 @@ struct gtet_mesh {
  * mesh). */
 size_t gtet_mesh_take_arrays(gtet_mesh *m, uint32_t **tets, uint32_t **neighbors);
 
+/* Internal (not in gigatet.h): gtet_triangulate, the same mesh, whose tet and neighbour arrays
+ * are each allocated with room for 32 bytes a tet slot and 16 more, twice what the working mesh
+ * takes (the pages never written stay unmapped), and handed over unshrunk: their
+ * malloc_usable_size is then at least 8 * (4 * n_tets + 1) bytes.  For the distributed mode,
+ * which widens the local mesh's rows to its 64-bit result where they lie
+ * (src/mpi/mpi_output.c, NOTES.md E130). */
+gtet_status gtet_triangulate_wide(const double *xyz, size_t n, const gtet_options *opts,
+                                  gtet_mesh **out);
+
 #endif

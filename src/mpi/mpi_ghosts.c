@@ -3,9 +3,6 @@
  * until no rank receives a new point (proofs/distributed.md D3, D5, D8). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -51,44 +48,12 @@ static gtet_status s_add_received(run *R, const mpt *rb, const size_t *rcnt, uin
     return GTET_OK;
 }
 
-/* The kernel allocates a mesh's tet array and then its neighbour array, and shrinks both to
- * the live tets at the end (src/kernel/kmesh.c, finalize.c), so with glibc's heap (gigatet-mpi
- * keeps freed memory there: cli_mpi.c) the neighbour array's block often starts a few MB after
- * the tet array's end.  When that gap is one free block, the tet array is grown over it, so
- * nothing else can take it: the output can then free the neighbour array and grow the tet
- * array over both blocks where they lie (mpi_output.c: widen_both, NOTES.md E120).  The gap
- * is known free when a block of exactly its size is handed out exactly there; only then is the
- * tet array grown (glibc grows a block in place into a free next block; a realloc that moved
- * 200 MB would cost more than the output saves).  Nothing but speed depends on this. */
-void mx_claim_gap(run *R)
-{
-    struct gtet_mesh *M = R->mesh;
-    R->tvcap = M ? M->n_tets : 0;
-#if defined(__GLIBC__)
-    if (!M || !M->tets || !M->neighbors || !M->n_tets) return;
-    uintptr_t a = (uintptr_t)M->tets, b = (uintptr_t)M->neighbors;
-    uintptr_t end = a + malloc_usable_size(M->tets) + 8;  /* where the next block's data starts */
-    if (b <= end || b - end > ((uintptr_t)64 << 20)) return;
-    size_t gap = (size_t)(b - end) - 8;                   /* that block's usable size */
-    void *probe = malloc(gap);
-    int free_gap = (uintptr_t)probe == end;
-    free(probe);
-    if (!free_gap) return;
-    size_t room = (size_t)(b - a) - 8;
-    uint32_t *t = realloc(M->tets, room);
-    if (!t) return;
-    M->tets = t;
-    R->tvcap = malloc_usable_size(t) / (4 * sizeof *t);
-#endif
-}
-
 static gtet_status triangulate_local(run *R)
 {
     gtet_mesh_free(&R->mesh);
     free(R->ptv);
     free(R->ptn);
     R->ptv = R->ptn = NULL;
-    R->tvcap = 0;
     R->qfrom = 0;   /* every tet is this round's */
     if (R->m == 0) return GTET_OK;
     for (int attempt = 0; attempt < 2; attempt++) {
@@ -101,7 +66,8 @@ static gtet_status triangulate_local(run *R)
         o.error = &e;
         o.input_done = mx_free_input;
         o.input_done_user = &xyz;
-        gtet_status s = gtet_triangulate(xyz, R->ns, &o, &R->mesh);
+        /* the arrays with room for the output's 64-bit rows (src/mesh/mesh.h, E130) */
+        gtet_status s = gtet_triangulate_wide(xyz, R->ns, &o, &R->mesh);
         free(xyz);
         if (s == GTET_ERR_DEGENERATE_INPUT && attempt == 0) {
             /* the tile with its ghosts is flat or tiny: add the global simplex (D5) */
@@ -113,7 +79,6 @@ static gtet_status triangulate_local(run *R)
         if (s != GTET_OK)
             return mx_fail(&R->c, s, "rank %d: local triangulation of %zu points: %s", R->c.rank,
                            R->ns, e.message);
-        mx_claim_gap(R);
         size_t nv = gtet_mesh_num_vertices(R->mesh);
         const uint32_t *map = gtet_mesh_input_map(R->mesh);
         if (nv != R->ns)
@@ -287,6 +252,8 @@ void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3])
 
 /* one round's queries: new tets / hull facets with a tile vertex, to every rank whose box
  * they may reach; returns them per rank in out[], and the round's queried keys in R->prev */
+#define QPF 16
+
 static gtet_status make_queries(run *R, vec *out)
 {
     int P = R->c.size, me = R->c.rank;
@@ -307,6 +274,10 @@ static gtet_status make_queries(run *R, vec *out)
      * the layer widths only (D3) */
     for (size_t t = R->qfrom; t < nt; t++) {
         const uint32_t *v = tv + 4 * t;
+        /* the points of a tet QPF further on fetched now: S's records are read at random
+         * (tets in the kernel's order, points in the tile's), a cache miss each (NOTES E131) */
+        if (t + QPF < nt)
+            for (int i = 0; i < 4; i++) __builtin_prefetch(&R->sp[v[4 * QPF + i]]);
         if (v[0] >= m && v[1] >= m && v[2] >= m && v[3] >= m) continue;
         /* the tet */
         for (int pass = 0; pass < 5; pass++) {

@@ -154,11 +154,9 @@ typedef struct run {
                                    first round's arrays, taken from R->mesh
                                    (gtet_mesh_take_arrays) and patched in place
                                    (mpi_patch.c: merge, NOTES E80) */
-    size_t pcap;                /* tets ptv and ptn have room for */
-    size_t tvcap;               /* tets ptv (or, before the first patch, the first round's
-                                   mesh's tets) has room for: grown after the local
-                                   triangulation up to the neighbour array's block
-                                   (mx_claim_gap), at least pcap once patched */
+    size_t pcap;                /* tets ptv and ptn have room for, each keeping room for
+                                   8 * (4 * pcap + 1) bytes: the output's 64-bit rows
+                                   where they lie (gtet_triangulate_wide, E130) */
     size_t qfrom;               /* the local tets this round made start here: the earlier
                                    ones were decided (queried or certified) before (D3) */
     /* keys of the previous round's queried tets / hull facets, sorted */
@@ -179,7 +177,15 @@ typedef struct query {
 } query;
 
 /* containers (mpi_util.c) */
-uint64_t mx_mix64(uint64_t x);
+/* splitmix64's finaliser; inline: the dedup, the hash sets and the patch's facet map call it
+ * for every record (NOTES.md E135) */
+static inline uint64_t mx_mix64(uint64_t x)
+{
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
 int mx_hs_grow(hset *h, size_t cap);          /* 0, or -1 out of memory */
 int mx_hs_add(hset *h, uint64_t key);         /* 1 inserted, 0 present, -1 out of memory */
 int mx_hs_has(const hset *h, uint64_t key);
@@ -222,9 +228,6 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
 void mx_sort4(uint64_t *k);                   /* 4 ids ascending (mpi_ghosts.c) */
 /* the hull facet opposite slot f of local tet tv, in ghost order (mpi_ghosts.c) */
 void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3]);
-/* after a local triangulation: its tet array grown in place up to its neighbour array, which
- * the kernel allocated just after it (mpi_ghosts.c; NOTES.md E120) */
-void mx_claim_gap(run *R);
 /* later rounds: DT(S) -> DT(S u N), N = S's points from n_old on (mpi_patch.c); *done = 0
  * when the caller must triangulate from scratch */
 gtet_status mx_patch(run *R, size_t n_old, int *done);

@@ -51,16 +51,17 @@ static int sort_by_id(mpt *a, size_t n)
 
 #define NOLID UINT32_MAX
 
-/* Step 7 writes its result over the local mesh (NOTES.md E120).  The owned tets' rows are
- * first moved down in place in both uint32 arrays (row o of owned tet t, o <= t: a row is read
- * before any later row lands on it): vertex ids stay local, a neighbour becomes its owned index
- * (NOLID: the hull, or a facet the matching fills in).  Then each array is widened to its 64-bit
- * result, back to front, so row o's 32 bytes land at or above where its 16 bytes were read.  The
- * array at the higher address first, then the lower one; each grows with realloc and is widened
- * where it lies when the blocks after it are free (for the lower one: when the two are adjacent,
- * mx_claim_gap, and the higher one was freed; glibc's blocks coalesce), else it is widened into
- * fresh memory.  On this VM memory first touched costs 0.16-7.6 s a GiB (NOTES.md Q14): an array
- * grown in place takes 16 B a tet of fresh memory or none, a fresh result 32. */
+/* Step 7 writes its result over the local mesh (NOTES.md E120, E130).  The owned tets' rows
+ * are first moved down in place in both uint32 arrays (row o of owned tet t, o <= t: a row is
+ * read before any later row lands on it): vertex ids stay local, a neighbour becomes its owned
+ * index (NOLID: the hull, or a facet the matching fills in).  Then each array is widened to its
+ * 64-bit result, back to front, so row o's 32 bytes land at or above where its 16 bytes were
+ * read.  Each array's block has the room for that: the local triangulation's arrays are
+ * allocated with it (gtet_triangulate_wide) and the patch keeps it (mpi_patch.c
+ * reserve_tets); should a block lack it, the array grows in place when the memory after it is
+ * free (can_grow), else it is widened into fresh memory.  On this VM memory first touched
+ * costs 0.16-7.6 s a GiB (NOTES.md Q14): an array widened where it lies takes 16 B an owned
+ * tet of fresh memory, a fresh result 32. */
 typedef struct outx {
     uint32_t *lid;      /* local tet -> owned index, or NOLID */
     const uint64_t *vid;/* local vertex -> global id */
@@ -77,12 +78,12 @@ static int compact_tet(const run *R, outx *X, uint32_t *tv, uint32_t *nb, size_t
     uint32_t v[4], n[4];
     memcpy(v, tv + 4 * t, sizeof v);
     memcpy(n, nb + 4 * t, sizeof n);
+    unsigned tile = 0;   /* bit i: vertex i is a tile point */
+    for (int i = 0; i < 4; i++) tile |= (unsigned)(v[i] < m) << i;
     for (int f = 0; f < 4; f++) {
         X->used[v[f]] = 1;
         uint32_t u = n[f];
-        int tilev = 0;
-        for (int i = 0; i < 4; i++)
-            if (i != f && v[i] < m) tilev = 1;
+        int tilev = (tile & ~(1u << f)) != 0;   /* facet f has a tile vertex */
         if (u != GTET_NO_TET && X->lid[u] != NOLID) {
             nb[4 * o + (size_t)f] = X->lid[u];        /* both owned here: final (D7) */
         } else {
@@ -143,31 +144,13 @@ static int can_grow(void *p, size_t bytes)
 #endif
 }
 
-/* does the higher block start right where the lower one ends, with room for the growth once
- * it is freed (mx_claim_gap)?  Decided before it is freed: can_grow's probe could then be handed
- * another free block of the size asked */
-static int adjacent(void *low, void *high, size_t bytes)
-{
-#if defined(__GLIBC__)
-    if (!low || !high) return 0;
-    size_t ul = malloc_usable_size(low), uh = malloc_usable_size(high);
-    return (uintptr_t)high == (uintptr_t)low + ul + 8 && ul + uh + 8 >= bytes;
-#else
-    (void)low;
-    (void)high;
-    (void)bytes;
-    return 0;
-#endif
-}
-
-/* one array's result: widened in place when its block can grow (grows > 0: known; 0: when
- * can_grow says so; < 0: never), else into fresh memory (huge pages: mx_malloc); *a handed
- * over.  -1 out of memory (*a then still R's) */
-static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *vid, uint64_t off,
-                     int grows)
+/* one array's result: widened in place when its block has the room or can grow (can_grow),
+ * else into fresh memory (huge pages: mx_malloc); *a handed over.  -1 out of memory (*a then
+ * still R's) */
+static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *vid, uint64_t off)
 {
     size_t bytes = (4 * own + 1) * sizeof(uint64_t);
-    int inplace = grows > 0 || (grows == 0 && can_grow(*a, bytes));
+    int inplace = can_grow(*a, bytes);
     uint64_t *r = inplace ? mx_realloc(*a, bytes) : mx_malloc(bytes);
     if (!r) return -1;
     widen(r, inplace ? (void *)r : (void *)*a, own, vid, off);
@@ -178,22 +161,12 @@ static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *v
 }
 
 /* the result's tets and neighbours from the compacted rows (see above); R->ptv, R->ptn are
- * handed over (NULL after).  The higher block first: when the two are adjacent (mx_claim_gap)
- * it goes to fresh memory and the lower one grows over it once it is freed; otherwise each
- * grows in place when what follows it is free (can_grow).  -1 out of memory (R's arrays then
- * still R's) */
+ * handed over (NULL after).  -1 out of memory (R's arrays then still R's) */
 static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid)
 {
     size_t own = res->num_tets;
-    int tv_low = (uintptr_t)R->ptv < (uintptr_t)R->ptn;
-    uint32_t **low = tv_low ? &R->ptv : &R->ptn, **high = tv_low ? &R->ptn : &R->ptv;
-    uint64_t **rlow = tv_low ? &res->tets : &res->neighbors;
-    uint64_t **rhigh = tv_low ? &res->neighbors : &res->tets;
-    /* adjacent: the higher one goes to fresh memory and is freed, the lower one grows over it */
-    int adj = adjacent(*low, *high, (4 * own + 1) * sizeof(uint64_t));
-    if (widen_one(high, rhigh, own, tv_low ? NULL : vid, res->tet_offset, adj ? -1 : 0) != 0)
-        return -1;
-    return widen_one(low, rlow, own, tv_low ? vid : NULL, res->tet_offset, adj ? 1 : 0);
+    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset) != 0) return -1;
+    return widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset);
 }
 
 /* what only the rounds read (the sets of ids held and sent, the tile grid, the last round's

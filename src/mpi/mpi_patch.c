@@ -16,6 +16,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "mesh/mesh.h"
 #include "mpi/mpi_patch.h"
@@ -209,24 +212,36 @@ static int flood(const patch *X, const fmap *B, const fmap *WF, size_t nkf, uint
     return linked == nkf;
 }
 
-/* room for nt2 tets in R->ptv, R->ptn (the first round's arrays, taken exactly full), with
- * 1/32 more for later rounds' few new tets; the arrays' contents stay as they were whatever
- * happens.  0, or -1 out of memory */
+/* room for nt2 tets in R->ptv, R->ptn, with 1/32 more for later rounds' few new tets, each
+ * block keeping twice that room for the output's 64-bit rows (R->pcap); the arrays' contents
+ * stay as they were whatever happens.  0, or -1 out of memory */
 static int reserve_tets(run *R, size_t nt2)
 {
     if (nt2 <= R->pcap) return 0;
     size_t cap = nt2 + R->pnt / 32 + 64;
-    if (cap > R->tvcap) {   /* never shrunk: its room up to ptn stays its own (mx_claim_gap) */
-        uint32_t *tv = mx_realloc(R->ptv, 4 * cap * sizeof *tv);
-        if (!tv) return -1;
-        R->ptv = tv;
-        R->tvcap = cap;
-    }
-    uint32_t *tn = mx_realloc(R->ptn, 4 * cap * sizeof *tn);
+    const size_t bytes = (4 * cap + 1) * sizeof(uint64_t);
+    uint32_t *tv = mx_realloc(R->ptv, bytes);
+    if (!tv) return -1;
+    R->ptv = tv;
+    uint32_t *tn = mx_realloc(R->ptn, bytes);
     if (!tn) return -1;
     R->ptn = tn;
     R->pcap = cap;
     return 0;
+}
+
+/* the tets the first round's arrays have room for, with the output's room kept: the
+ * kernel's (gtet_triangulate_wide) allocation, at least R->pnt */
+static size_t taken_room(const run *R)
+{
+    size_t cap = R->pnt;
+#if defined(__GLIBC__)
+    size_t u = malloc_usable_size(R->ptv), v = malloc_usable_size(R->ptn);
+    if (v < u) u = v;
+    if (u >= sizeof(uint64_t) && (u - sizeof(uint64_t)) / 32 > cap)
+        cap = (u - sizeof(uint64_t)) / 32;
+#endif
+    return cap;
 }
 
 /* a link from a kept tet into C, cut before the kept tets move (GTET_NO_TET is NONE) */
@@ -312,13 +327,12 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
     *done = 0;
     if (!R->ptv && gtet_mesh_num_tets(R->mesh) > 0) {
         /* the first patch: the round-1 mesh's arrays become ours, to patch in place */
-        R->pnt = R->pcap = gtet_mesh_take_arrays(R->mesh, &R->ptv, &R->ptn);
-        if (R->tvcap < R->pnt) R->tvcap = R->pnt;
+        R->pnt = gtet_mesh_take_arrays(R->mesh, &R->ptv, &R->ptn);
+        R->pcap = taken_room(R);
         gtet_mesh_free(&R->mesh);
-        /* room for the later rounds' new tets now, before this patch allocates anything:
-         * the kernel shrank the arrays from 7 slots a point (build.c), and glibc can grow
-         * them back into that tail where they lie, while they would be copied to new memory
-         * once other blocks took it (seen at 1M points: a 0.3 s, 56 MB copy) */
+        /* room for the later rounds' new tets: the kernel's arrays keep theirs (7 slots a
+         * point, build.c, and twice that for the output); a realloc that moved them would
+         * copy into new memory (seen at 1M points: a 0.3 s, 56 MB copy) */
         if (reserve_tets(R, R->pnt + 1) != 0)
             return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     }

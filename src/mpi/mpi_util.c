@@ -179,14 +179,6 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
 /* small containers                                                                           */
 /* ------------------------------------------------------------------------------------------ */
 
-uint64_t mx_mix64(uint64_t x)
-{
-    x += 0x9e3779b97f4a7c15ull;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    return x ^ (x >> 31);
-}
-
 int mx_hs_grow(hset *h, size_t cap)
 {
     uint64_t *k = mx_malloc(cap * sizeof *k);

@@ -83,15 +83,18 @@ with open('cluster.xyz', 'w') as f:
   # instead of locating the new points (D10: the same hiding); --check: the patched mesh's
   # neighbour links, which the gathered mesh's comparison does not see (mpi_patch.c moves the
   # kept tets into the cavity's slots and redirects their neighbours' links, NOTES E80)
+  # (and the hull facets counted, mpi_output.c match_facets: gigatet's count)
   for s in uniform cluster sphere; do for np in 2 4; do
+    "$cli" triangulate "$s.xyz" --stats | tail -n 1 > ref_stats.json
     if run "$np" "$mpicli" triangulate "$s.xyz" -q --stats --check > stats.json &&
        python3 -c "
 import json, sys
 d = json.load(open('stats.json'))
-sys.exit(not (d['rounds'] >= 2 and
+hull = json.load(open('ref_stats.json'))['hull_facets']
+sys.exit(not (d['rounds'] >= 2 and d['hull_facets'] == hull and
               all(r['rebuilds'] == 0 and r['scans'] == 0 for r in d['per_rank'])))"; then
-      ok "$s np=$np: later rounds patched"
-    else bad "$s np=$np: rounds/rebuilds/scans: $(cat stats.json)"; fi
+      ok "$s np=$np: later rounds patched, hull facets counted"
+    else bad "$s np=$np: rounds/rebuilds/scans/hull facets: $(cat stats.json) $(cat ref_stats.json)"; fi
   done; done
   # a thin slab (3000 points, z in [0, 0.02]): here the tets a patched round makes have
   # circumballs reaching points of other tiles that no earlier query fetched, so the mesh is
