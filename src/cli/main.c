@@ -8,7 +8,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
-#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -126,34 +125,9 @@ long cli_max_rss_bytes(void)
     return ru.ru_maxrss * 1024L; /* Linux reports kilobytes */
 }
 
-/* Ctrl-C, a kill, a closed terminal while an output file is written: its temporary (and the
- * .node's, the degeneracy record's) is removed, then the signal is re-raised with its default
- * action (the process dies of it, as without the handler).  Without this a 1 GB
- * "m.vtu.tmp-PID-N" stayed behind (NOTES.md E156). */
-static void on_fatal_signal(int sig)
-{
-    io_out_unlink_all();
-    signal(sig, SIG_DFL);
-    raise(sig);
-}
-
-static void catch_fatal_signals(void)
-{
-    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
-    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
-        struct sigaction sa, old;
-        if (sigaction(sigs[i], NULL, &old) == 0 && old.sa_handler == SIG_IGN) continue;
-        memset(&sa, 0, sizeof sa);
-        sa.sa_handler = on_fatal_signal;
-        sigemptyset(&sa.sa_mask);
-        sa.sa_flags = SA_RESETHAND;
-        sigaction(sigs[i], &sa, NULL);
-    }
-}
-
 int main(int argc, char **argv)
 {
-    catch_fatal_signals();
+    io_out_catch_signals();  /* NOTES.md E156 */
     if (argc < 2) {
         print_help(stderr);
         return CLI_USAGE;

@@ -163,6 +163,12 @@ typedef struct io_mesh {
  * reads a fixed table of atomic pointers and calls unlink (NOTES.md E156). */
 void io_out_unlink_all(void);
 
+/* Install a handler of SIGINT, SIGTERM and SIGHUP (each not ignored at the call) that calls
+ * io_out_unlink_all and re-raises the signal with its default action: Ctrl-C, a kill or a
+ * closed terminal while a mesh is written leaves no temporary, and the process still dies of
+ * the signal.  For a program's main (gigatet, gigatet-mpi after MPI_Init); NOTES.md E156. */
+void io_out_catch_signals(void);
+
 /* Write a tet mesh (a format with IO_WRITE_MESH), atomically (for .ele both files or neither). */
 io_status io_write_mesh(const char *path, const double *vertices, size_t nv,
                         const uint32_t *tets, size_t nt, io_error *err);

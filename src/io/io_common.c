@@ -17,6 +17,7 @@
 #include <fcntl.h>
 #include <limits.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -396,6 +397,29 @@ void io_out_unlink_all(void)
     for (int i = 0; i < IO_OUT_LIVE; i++) {
         char *t = atomic_load(&out_live[i]);
         if (t) unlink(t);
+    }
+}
+
+/* The handler: the temporaries removed, then the signal re-raised with its default action
+ * (SA_RESETHAND has already restored it), so the process dies of it as without the handler. */
+static void on_fatal_signal(int sig)
+{
+    io_out_unlink_all();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+void io_out_catch_signals(void)
+{
+    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+        struct sigaction sa, old;
+        if (sigaction(sigs[i], NULL, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_fatal_signal;
+        sigemptyset(&sa.sa_mask);
+        sa.sa_flags = SA_RESETHAND;
+        sigaction(sigs[i], &sa, NULL);
     }
 }
 

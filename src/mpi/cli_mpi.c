@@ -528,6 +528,7 @@ int main(int argc, char **argv)
     MPI_Init(&argc, &argv);
     MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
     MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+    io_out_catch_signals();  /* after MPI_Init: a rank killed while writing leaves no temporary */
     char msg[1024] = "";
     args a;
     int code = parse(argc, argv, &a, msg, sizeof msg);   /* the same on every rank */

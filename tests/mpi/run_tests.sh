@@ -206,7 +206,27 @@ with open('flat.xyz','w') as f:
   each_rank_code 2 1 "usage" -- "$mpicli" triangulate
   each_rank_code 2 1 "bad -t" -- "$mpicli" triangulate u.bin -t x
   each_rank_code 2 2 "unwritable output" -- "$mpicli" triangulate u.bin -o /nonexistent/dir/x.vtu -q
-  each_rank_code 2 2 "unwritable .pvtu" -- "$mpicli" triangulate u.bin -o /nonexistent/dir/x.pvtu -q ;;
+  each_rank_code 2 2 "unwritable .pvtu" -- "$mpicli" triangulate u.bin -o /nonexistent/dir/x.pvtu -q
+  # NOTES.md E156: every rank killed by SIGTERM while writing (what a batch system's time limit
+  # or scancel does; mpirun itself does not pass a signal on before the ranks finish): each
+  # rank's handler removes its temporaries, and no output appears
+  "$cli" generate uniform 300000 --seed 4 -o sig.bin -q
+  mkdir -p sig
+  for o in vtu pvtu; do
+    rm -rf sig/*
+    "$mpirun" --oversubscribe -np 2 "$mpicli" triangulate sig.bin -o "sig/m.$o" -q > /dev/null 2>&1 &
+    pid=$!
+    for _ in $(seq 6000); do  # until a temporary has data (at most 60 s)
+      [ -n "$(find sig -name "*.tmp-*" -size +0)" ] && break
+      sleep 0.01
+    done
+    if [ -z "$(find sig -name "*.tmp-*" -size +0)" ]; then bad "SIGTERM .$o: no temporary seen"; fi
+    pkill -TERM -f "$mpicli triangulate sig.bin" || true
+    set +e; timeout 60 tail --pid="$pid" -f /dev/null; wait "$pid"; set -e
+    left=$(find sig -type f)
+    if [ -z "$left" ]; then ok "ranks killed (SIGTERM) while writing .$o: nothing left"
+    else bad "ranks killed (SIGTERM) while writing .$o left: $left"; fi
+  done ;;
 api)
   run 1 "$api" && ok "api np=1" || bad "api np=1"
   run 3 "$api" && ok "api np=3" || bad "api np=3"
