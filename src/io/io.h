@@ -183,8 +183,9 @@ io_status io_parse_mesh(io_format fmt, const char *name, const void *data, size_
                         const void *node_data, size_t node_len, io_mesh *mesh, io_error *err);
 void io_mesh_free(io_mesh *mesh);
 
-/* Fail early (IO_ERR_WRITE) when path cannot be created: creates and removes the temporary
- * file a writer would use, so a long run does not end in an unwritable destination. */
+/* Fail early (IO_ERR_WRITE) when path cannot be created or names a directory: creates and
+ * removes the temporary file a writer would use, so a long run does not end in an unwritable
+ * destination. */
 io_status io_check_writable(const char *path, io_error *err);
 
 /* For .ele: the .node path written / read beside it (malloc'ed), else NULL. */

@@ -526,6 +526,10 @@ void io_out_abort(io_out *o)
 
 io_status io_check_writable(const char *path, io_error *err)
 {
+    struct stat st;  /* the rename onto a directory would fail, but only after the work */
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return io_fail(err, IO_ERR_WRITE, "%s: is a directory; give a file name for the output",
+                       path);
     io_out o;
     io_status s = io_out_open(&o, path, err);
     if (s == IO_OK) io_out_abort(&o);

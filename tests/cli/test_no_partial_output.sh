@@ -28,11 +28,16 @@ else
     echo "NOTE: running as root, which ignores directory permissions: the read-only-directory case is covered by the missing-directory and not-a-directory cases above"
 fi
 
-# the .ele's rename fails (a directory has its name): its .node must not stay behind
-mkdir out/m.ele
-expect 2 "out/m.ele" -- "$G" triangulate in.xyz -o out/m.ele
-[ "$(listing out)" = "m.ele " ] || fail "after a failed .ele rename: $(listing out)"
-rmdir out/m.ele
+# an output name that is a directory: refused before the work, with the reason (it used to
+# fail only at the rename after the whole run: "cannot rename the finished output into
+# place"), and nothing beside it (the .node) stays behind; the writer's own cleanup when its
+# rename fails is tests/test_io_writers.c's
+for o in ele vtu; do
+    mkdir "out/m.$o"
+    expect 2 "out/m.$o: is a directory" -- "$G" triangulate in.xyz -o "out/m.$o"
+    [ "$(listing out)" = "m.$o " ] || fail "after a directory output name: $(listing out)"
+    rmdir "out/m.$o"
+done
 
 # an existing output survives failed runs byte for byte
 echo "precious" > out/keep.msh
