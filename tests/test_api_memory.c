@@ -463,6 +463,30 @@ static void wide_arrays_keep_room(void)
     free(xyz);
 }
 
+/* A block the readers are about to fill (a text file read whole, a pipe's next doubling) fits
+ * only within every limit; the refusal names the tightest (NOTES.md E161). */
+static void block_fits_names_the_limit(void)
+{
+    const mem_room none = {UINT64_MAX, UINT64_MAX, UINT64_MAX, UINT64_MAX};
+    char why[96] = "";
+    TEST_CHECK(mem_block_fits(&none, (uint64_t)1 << 50, why, sizeof why), "no limit: fits");
+    mem_room r = none;
+    r.mem_available = 512 * MIB;
+    TEST_CHECK(mem_block_fits(&r, 512 * MIB, why, sizeof why), "exactly MemAvailable fits");
+    TEST_CHECK(!mem_block_fits(&r, 513 * MIB, why, sizeof why) &&
+                   strcmp(why, "512.0 MiB available (MemAvailable)") == 0, "MemAvailable: '%s'", why);
+    r.cgroup = 100 * MIB;
+    TEST_CHECK(!mem_block_fits(&r, 200 * MIB, why, sizeof why) &&
+                   strcmp(why, "100.0 MiB available (cgroup memory limit)") == 0, "cgroup: '%s'", why);
+    r.rlimit_as = 80 * MIB;
+    TEST_CHECK(!mem_block_fits(&r, 90 * MIB, why, sizeof why) &&
+                   strcmp(why, "80.0 MiB available (RLIMIT_AS, ulimit -v)") == 0, "as: '%s'", why);
+    r.rlimit_data = 70 * MIB;
+    TEST_CHECK(!mem_block_fits(&r, 90 * MIB, why, sizeof why) &&
+                   strcmp(why, "70.0 MiB available (RLIMIT_DATA, ulimit -d)") == 0, "data: '%s'", why);
+    TEST_CHECK(mem_block_fits(&r, 70 * MIB, why, sizeof why), "within every limit: fits");
+}
+
 int main(void)
 {
     TU_RUN(estimate_shape);
@@ -476,5 +500,6 @@ int main(void)
     TU_RUN(big_blocks_ask_for_huge_pages);
     TU_RUN(populate_maps_whole_pages);
     TU_RUN(wide_arrays_keep_room);
+    TU_RUN(block_fits_names_the_limit);
     return tu_finish();
 }

@@ -337,6 +337,22 @@ static gtet_status refuse(gtet_error *err, uint64_t need, uint64_t have, const c
     return GTET_ERR_OUT_OF_MEMORY;
 }
 
+int mem_block_fits(const mem_room *room, uint64_t bytes, char *why, size_t why_size)
+{
+    const int cg = room->cgroup < room->mem_available;
+    const uint64_t res = cg ? room->cgroup : room->mem_available;
+    const int data = room->rlimit_data < room->rlimit_as;
+    const uint64_t addr = data ? room->rlimit_data : room->rlimit_as;
+    if (bytes <= res && bytes <= addr) return 1;
+    char have[32];
+    const int addr_bound = addr < res;
+    fmt_bytes(have, sizeof have, addr_bound ? addr : res);
+    snprintf(why, why_size, "%s available (%s)", have,
+             addr_bound ? (data ? "RLIMIT_DATA, ulimit -d" : "RLIMIT_AS, ulimit -v")
+                        : (cg ? "cgroup memory limit" : "MemAvailable"));
+    return 0;
+}
+
 gtet_status mem_guard_room(size_t n, int threads, const gtet_options *opts,
                            const mem_room *room, gtet_error *err)
 {

@@ -37,6 +37,13 @@ typedef struct mem_room {
  * test passes a fake tree). */
 void mem_probe(const char *proc, const char *sys, mem_room *room);
 
+/* 1 when one more block of `bytes` fits in what room leaves (resident: MemAvailable and the
+ * cgroup's limit; address space: RLIMIT_AS and RLIMIT_DATA); else 0, with `why` (why_size
+ * bytes) saying "5.2 GiB available (MemAvailable)".  For the readers of files that are loaded
+ * whole (src/io: a text file larger than the machine's memory, an endless pipe), which
+ * would otherwise be killed by the OOM killer while reading. */
+int mem_block_fits(const mem_room *room, uint64_t bytes, char *why, size_t why_size);
+
 /* GTET_OK when a run of n points fits (opts->memory_limit: 0 = against the machine, SIZE_MAX =
  * no guard, else that many bytes); else GTET_ERR_OUT_OF_MEMORY with err's message saying how
  * much it needs, how much is available and which limit bound it. */

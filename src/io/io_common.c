@@ -11,6 +11,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "io_internal.h"
 
+#include "../api/memory.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <stdatomic.h>
@@ -109,6 +111,31 @@ io_status io_load_file(const char *path, char **buf, size_t *len, io_error *err)
     return io_load_fd(fd, path, buf, len, err);
 }
 
+/* A file is loaded whole: before a buffer of IO_ROOM_MIN bytes or more is allocated (a regular
+ * file's size, or a pipe's next doubling), the machine's limits are read (mem_probe), so that
+ * an input larger than the memory (a 30 GB .xyz, an endless pipe) ends in IO_ERR_NOMEM with
+ * the limit named, not in the OOM killer's SIGKILL: with overcommit the allocation itself
+ * succeeds and the process dies while the read touches the pages (NOTES.md E161). */
+#define IO_ROOM_MIN ((size_t)64 << 20)
+static io_status input_room(const char *path, size_t bytes, int regular, size_t got,
+                            io_error *err)
+{
+    if (bytes < IO_ROOM_MIN) return IO_OK;
+    mem_room room;
+    mem_probe("/proc", "/sys", &room);
+    char why[96];
+    if (mem_block_fits(&room, bytes, why, sizeof why)) return IO_OK;
+    const double gib = (double)((size_t)1 << 30);
+    if (regular)
+        return io_fail(err, IO_ERR_NOMEM,
+                       "%s: out of memory: the file (%.2f GiB) is read whole, and %s", path,
+                       (double)bytes / gib, why);
+    return io_fail(err, IO_ERR_NOMEM,
+                   "%s: out of memory: the input (not a regular file: a pipe, a device) has "
+                   "sent %.2f GiB so far and is read whole; its buffer cannot double: %s", path,
+                   (double)got / gib, why);
+}
+
 io_status io_load_fd(int fd, const char *path, char **buf, size_t *len, io_error *err)
 {
     *buf = NULL;
@@ -125,6 +152,11 @@ io_status io_load_fd(int fd, const char *path, char **buf, size_t *len, io_error
     }
     /* Regular files: one allocation of the known size; pipes etc.: grow by doubling. */
     size_t cap = S_ISREG(st.st_mode) ? (size_t)st.st_size + 1 : 65536, n = 0;
+    io_status room = input_room(path, cap, 1, 0, err);
+    if (room != IO_OK) {
+        close(fd);
+        return room;
+    }
     char *b = malloc(cap);
     if (!b) {
         close(fd);
@@ -138,6 +170,14 @@ io_status io_load_fd(int fd, const char *path, char **buf, size_t *len, io_error
             ssize_t r = read(fd, &probe, 1);
             if (r < 0 && errno == EINTR) continue;
             if (r == 0) break;
+            if (r > 0 && cap <= SIZE_MAX / 2) {
+                room = input_room(path, 2 * cap, 0, n + 1, err);
+                if (room != IO_OK) {
+                    free(b);
+                    close(fd);
+                    return room;
+                }
+            }
             char *nb = (r < 0 || cap > SIZE_MAX / 2) ? NULL : realloc(b, cap * 2);
             if (!nb) {
                 int e = errno;
