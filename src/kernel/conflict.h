@@ -21,7 +21,11 @@ __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t 
     const double *d = km_pt(m, v[3]);
     /* the filter inline (most calls stop here); the full chain counts its own call */
     double minors[PRED_IS_NMINORS];
+#ifdef PRED_INSPHERE_PACKED
+    int s = pred_insphere_filter_packed(a, b, cc, d, p, m->ps.is_seps, minors);
+#else
     int s = pred_insphere_filter(a, b, cc, d, p, m->ps.is_seps, minors);
+#endif
     if (s != 0) {
         c->cnt.insphere_calls++;
         return s > 0;
