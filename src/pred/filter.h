@@ -252,15 +252,19 @@ static inline int pred_insphere_filter(const double *a, const double *b, const d
  *     (aw, bw) = ((ax, bx)^2 + (ay, by)^2) + (az, bz)^2, (cw, dw) likewise
  *     det = lane 0 + lane 1 of (cw, aw)*(dab, bcd) - (dw, bw)*(abc, cda)
  * (x^2 is x*x; proofs/filters.md section 13.)  When the static test does not decide, the
- * scalar filter is called on the same tuple: the semi-static bound and the record of an
- * undecided call are its own.  ~2/3 of the scalar form's instructions on the static path
- * (NOTES.md E140); tests/test_pred_packed_filter.c compares the two. */
+ * scalar filter's remaining statements run on the lanes' values (pred_insphere_packed_rest_).
+ * ~2/3 of the scalar form's instructions (NOTES.md E140); tests/test_pred_packed_filter.c
+ * compares det~, the answers and the records with the scalar filter's. */
 #define PRED_INSPHERE_PACKED 1
 static inline __m128d pred_swap_(__m128d x) { return _mm_shuffle_pd(x, x, 1); }
 
-static inline double pred_insphere_det_packed_(const double *a, const double *b,
-                                               const double *c, const double *d,
-                                               const double *e)
+/* The lanes an undecided call's rest needs: the translated points and the 3x3 minors. */
+typedef struct pred_is_lanes_ {
+    __m128d A, B, C, D, Z1, Z2, abc_cda, bcd_dab;
+} pred_is_lanes_;
+
+static inline double pred_insphere_lanes_(const double *a, const double *b, const double *c,
+                                          const double *d, const double *e, pred_is_lanes_ *L)
 {
     const __m128d exy = _mm_loadu_pd(e), ez = _mm_set1_pd(e[2]);
     const __m128d A = _mm_sub_pd(_mm_loadu_pd(a), exy);   /* (ax, ay) */
@@ -293,18 +297,73 @@ static inline double pred_insphere_det_packed_(const double *a, const double *b,
                                     _mm_mul_pd(Z2, Z2));
     const __m128d halves = _mm_sub_pd(_mm_mul_pd(_mm_unpacklo_pd(cwdw, awbw), pred_swap_(bcd_dab)),
                                       _mm_mul_pd(_mm_unpackhi_pd(cwdw, awbw), abc_cda));
+    *L = (pred_is_lanes_){A, B, C, D, Z1, Z2, abc_cda, bcd_dab};
     return _mm_cvtsd_f64(_mm_add_sd(halves, _mm_unpackhi_pd(halves, halves)));
 }
 
+/* det~ alone (the test's handle on the lanes) */
+static inline double pred_insphere_det_packed_(const double *a, const double *b,
+                                               const double *c, const double *d,
+                                               const double *e)
+{
+    pred_is_lanes_ L;
+    return pred_insphere_lanes_(a, b, c, d, e, &L);
+}
+
+/* The static test failed: the rest of pred_insphere_filter (from `if (seps == 0)` on), the
+ * same statements on the same values (handed over from the lanes), so that an undecided call
+ * does not pay for a second evaluation (the sphere and the paraboloid, where the static
+ * bound rarely decides).  tests/test_pred_packed_filter.c compares the records byte for byte. */
+static inline int pred_insphere_packed_rest_(const pred_is_lanes_ *L, double det, double seps,
+                                             double *minors)
+{
+    double t[16];
+    _mm_storeu_pd(t, L->A);
+    _mm_storeu_pd(t + 2, L->B);
+    _mm_storeu_pd(t + 4, L->C);
+    _mm_storeu_pd(t + 6, L->D);
+    _mm_storeu_pd(t + 8, L->Z1);
+    _mm_storeu_pd(t + 10, L->Z2);
+    _mm_storeu_pd(t + 12, L->abc_cda);
+    _mm_storeu_pd(t + 14, L->bcd_dab);
+    const double ax = t[0], ay = t[1], bx = t[2], by = t[3], cx = t[4], cy = t[5];
+    const double dx = t[6], dy = t[7], az = t[8], bz = t[9], cz = t[10], dz = t[11];
+    const double abc = t[12], cda = t[13], bcd = t[14], dab = t[15];
+    if (seps == 0) {
+        if (minors) {
+            minors[0] = abc;
+            minors[1] = bcd;
+            minors[2] = cda;
+            minors[3] = dab;
+        }
+        return 0;
+    }
+    const double X = pred_max_(pred_max_(pred_fabs_(ax), pred_fabs_(bx)),
+                               pred_max_(pred_fabs_(cx), pred_fabs_(dx)));
+    const double Y = pred_max_(pred_max_(pred_fabs_(ay), pred_fabs_(by)),
+                               pred_max_(pred_fabs_(cy), pred_fabs_(dy)));
+    const double Z = pred_max_(pred_max_(pred_fabs_(az), pred_fabs_(bz)),
+                               pred_max_(pred_fabs_(cz), pred_fabs_(dz)));
+    const double lo = pred_min_(pred_min_(X, Y), Z);
+    const double M = pred_max_(pred_max_(X, Y), Z);
+    if (!(lo >= PRED_IS_LO && M <= PRED_IS_HI))
+        return minors ? pred_insphere_keep_(minors, abc, bcd, cda, dab, det, __builtin_inf()) : 0;
+    const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
+    if (minors && !(det > eps) && !(det < -eps))
+        pred_insphere_keep_(minors, abc, bcd, cda, dab, det, (((X * Y) * Z) * M) * M);
+    return (det > eps) - (det < -eps);
+}
+
+/* det~ and the static test on the lanes, then the rest of the scalar filter on their values. */
 static inline int pred_insphere_filter_packed(const double *a, const double *b, const double *c,
                                               const double *d, const double *e, double seps,
                                               double *minors)
 {
-    const double det = pred_insphere_det_packed_(a, b, c, d, e);
+    pred_is_lanes_ L;
+    const double det = pred_insphere_lanes_(a, b, c, d, e, &L);
     if (det > seps) return 1;
     if (det < -seps) return -1;
-    /* the static test failed: the scalar filter decides (the same det~, the record) */
-    return pred_insphere_filter(a, b, c, d, e, seps, minors);
+    return pred_insphere_packed_rest_(&L, det, seps, minors);
 }
 #endif
 
