@@ -39,18 +39,11 @@ static int grow(void **buf, size_t *cap, size_t need, size_t elem)
 /* The cavity search will read the records of t's neighbours: start loading them now, while
  * the tets queued before t are processed (a hint only).  With it the two arrays are as fast as one
  * 32-byte record per tet holding vertices and neighbours together (one line per tet instead of
- * two), and their compaction allocates nothing (NOTES.md D2).  Both lines of each neighbour:
- * its vertices (the dead mark, the conflict test) and its neighbour handles, which the search
- * reads when it joins the cavity and fill writes (the back link) when it stays outside
- * (NOTES.md E141). */
+ * two), and their compaction allocates nothing (NOTES.md D2). */
 static inline void prefetch_neighbours(const kmesh *m, uint32_t t)
 {
     const uint32_t *n = m->tn + 4 * (size_t)t;
-    for (int f = 0; f < 4; f++) {
-        const size_t u = n[f] >> 2;
-        __builtin_prefetch(m->tv + 4 * u);
-        __builtin_prefetch(m->tn + 4 * u);
-    }
+    for (int f = 0; f < 4; f++) __builtin_prefetch(m->tv + 4 * (size_t)(n[f] >> 2));
 }
 
 /* Move the rest of this thread's block of fresh slots to its free list, marked deleted so

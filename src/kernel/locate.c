@@ -80,9 +80,6 @@ gtet_status km_walk(kctx *c, const double *p, uint32_t *found, int may_scan)
             c->walk_steps += step;
             return GTET_OK;
         }
-        /* the step reads t's neighbour handles after its orient tests, and the cavity
-         * search starts from them where the walk ends: load them meanwhile (a hint only) */
-        __builtin_prefetch(m->tn + 4 * (size_t)t);
         uint32_t r = rng_next(c);
         int moved = 0;
         for (int k = 0; k < 4; k++) {
