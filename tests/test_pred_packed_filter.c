@@ -4,11 +4,12 @@
  * Specification: its det~ (pred_insphere_det_packed_) is the bytes of det~ evaluated in
  * filter.h's FIXED order (typed again here; NaN for NaN); on every tuple and every kind of
  * static bound (none, a box's, 0 for a lattice) the packed filter returns what
- * pred_insphere_filter returns and leaves the same record (compared as bytes) when undecided.  Tuples: uniform in a box, points rounded onto a sphere with a fifth
- * point near it (the record's path), ulp neighbours of lattice points of an integer sphere
- * (exactly co-spherical: seps 0), random doubles of every magnitude (the guards, overflowing
- * translations), and small integers with zeros.  Where SSE2 is not available the kernel uses
- * the scalar filter and there is nothing to compare.
+ * pred_insphere_filter returns and leaves the same record (compared as bytes) when undecided.
+ * Tuples: uniform in a box, points rounded onto a sphere with a fifth point near it (the
+ * record's path), ulp neighbours of lattice points of an integer sphere (exactly co-spherical:
+ * seps 0), random doubles of every magnitude (the guards, overflowing translations), and small
+ * integers with zeros.  Where SSE2 is not available the kernel uses the scalar filter and there
+ * is nothing to compare.
  */
 #include "pred/filter.h"
 #include "pred_gen.h"

@@ -278,7 +278,8 @@ static inline double pred_insphere_lanes_(const double *a, const double *b, cons
     const __m128d XA = _mm_unpacklo_pd(A, B), YA = _mm_unpackhi_pd(A, B); /* (ax,bx) (ay,by) */
     const __m128d XC = _mm_unpacklo_pd(C, D), YC = _mm_unpackhi_pd(C, D); /* (cx,dx) (cy,dy) */
     const __m128d ab_cd = _mm_sub_pd(_mm_mul_pd(X1, Y2), _mm_mul_pd(X2, Y1));
-    const __m128d bc_da = _mm_sub_pd(_mm_mul_pd(X2, pred_swap_(Y1)), _mm_mul_pd(pred_swap_(X1), Y2));
+    const __m128d bc_da = _mm_sub_pd(_mm_mul_pd(X2, pred_swap_(Y1)),
+                                     _mm_mul_pd(pred_swap_(X1), Y2));
     const __m128d ac_bd = _mm_sub_pd(_mm_mul_pd(XA, YC), _mm_mul_pd(XC, YA));
     const __m128d neg_hi = _mm_set_pd(-0.0, 0.0);          /* flips lane 1's sign */
     const __m128d azcz = _mm_unpacklo_pd(Z1, Z2), bzdz = _mm_unpackhi_pd(Z1, Z2);
