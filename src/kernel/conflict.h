@@ -7,26 +7,43 @@
 #define GTET_KERNEL_CONFLICT_H
 #include "kmesh.h"
 
-/* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)?
+/* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)?  tv, V
+ * and seps are c->m's tet vertices, coordinates and static insphere bound: the cavity search
+ * reads them once a point and passes them, where each call would load them again (stores
+ * through the boundary records may alias them for the compiler; NOTES.md E142).
  * always_inline: gcc's size heuristics stop inlining it once the filter keeps its record of
  * an undecided call (filter.h pred_insphere_keep_): paraboloid 100k +4.5% instructions. */
-__attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t t, const double *p)
+__attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const uint32_t *tv,
+                                                                 const double *V, double seps,
+                                                                 uint32_t t, const double *p)
 {
     const kmesh *m = c->m;
-    const uint32_t *v = m->tv + 4 * (size_t)t;
+    const uint32_t *v = tv + 4 * (size_t)t;
     if (v[3] == KM_GHOST)
-        return pred_ghost_conflict_st_log(km_pt(m, v[0]), km_pt(m, v[1]), km_pt(m, v[2]), p,
-                                          &m->ps, &c->cnt, c->sos_log) > 0;
-    const double *a = km_pt(m, v[0]), *b = km_pt(m, v[1]), *cc = km_pt(m, v[2]);
-    const double *d = km_pt(m, v[3]);
+        return pred_ghost_conflict_st_log(V + 3 * (size_t)v[0], V + 3 * (size_t)v[1],
+                                          V + 3 * (size_t)v[2], p, &m->ps, &c->cnt,
+                                          c->sos_log) > 0;
+    const double *a = V + 3 * (size_t)v[0], *b = V + 3 * (size_t)v[1];
+    const double *cc = V + 3 * (size_t)v[2], *d = V + 3 * (size_t)v[3];
     /* the filter inline (most calls stop here); the full chain counts its own call */
     double minors[PRED_IS_NMINORS];
-    int s = pred_insphere_filter(a, b, cc, d, p, m->ps.is_seps, minors);
+#ifdef PRED_INSPHERE_PACKED
+    int s = pred_insphere_filter_packed(a, b, cc, d, p, seps, minors);
+#else
+    int s = pred_insphere_filter(a, b, cc, d, p, seps, minors);
+#endif
     if (s != 0) {
         c->cnt.insphere_calls++;
         return s > 0;
     }
     return pred_insphere_sos_rest_log(a, b, cc, d, p, &m->ps, minors, &c->cnt, c->sos_log) > 0;
+}
+
+/* km_conflicts_in on c->m's arrays and bound */
+__attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t t, const double *p)
+{
+    const kmesh *m = c->m;
+    return km_conflicts_in(c, m->tv, m->v, m->ps.is_seps, t, p);
 }
 
 /* locate.c: a ghost in conflict with p found by a walk over the hull from c->last_ghost, or

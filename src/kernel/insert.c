@@ -304,14 +304,29 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
      * bits: a kept tet next to two deleted ones is not tested twice (NOTES.md Q6, E61) */
     uint32_t kept[KM_KEPT_CACHE];
     memset(kept, 0xff, sizeof kept);
+    /* read once a point (the arrays move only when fill grows them; NOTES.md E142) */
+    const uint32_t *const tv = m->tv, *const tn = m->tn;
+    const double *const V = m->v;
+    const double seps = m->ps.is_seps;
     for (size_t i = 0; i < ncav; i++) {
         uint32_t t = c->cav[i];
+        /* room for what t's four facets can add, checked once a tet rather than once a push;
+         * and t's vertices, which every boundary record of t copies, read once (t is already
+         * marked: its mark cleared in the copy) */
+        if (grow((void **)&c->cav, &c->cav_cap, ncav + 4, sizeof *c->cav) ||
+            grow((void **)&c->bnd, &c->bnd_cap, nb + 4, sizeof *c->bnd)) {
+            rollback(c, ncav);
+            return GTET_ERR_OUT_OF_MEMORY;
+        }
+        uint32_t tvt[4];
+        memcpy(tvt, tv + 4 * (size_t)t, sizeof tvt);
+        tvt[0] &= ~KM_DEAD;
         for (uint32_t f = 0; f < 4; f++) {
-            uint32_t h = m->tn[4 * (size_t)t + f];
+            uint32_t h = tn[4 * (size_t)t + f];
             uint32_t u = h >> 2;
-            if (km_dead(m, u)) continue;
+            if (tv[4 * (size_t)u] & KM_DEAD) continue;  /* km_dead */
             uint32_t *k = &kept[u & (KM_KEPT_CACHE - 1)];
-            if (*k != u && km_conflicts(c, u, p)) {
+            if (*k != u && km_conflicts_in(c, tv, V, seps, u, p)) {
                 if (c->colour) {
                     const int own = km_owned(c, u);
                     if (!own) {
@@ -321,23 +336,14 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
                     }
                     foreign |= own == 2;
                 }
-                if (grow((void **)&c->cav, &c->cav_cap, ncav + 1, sizeof *c->cav)) {
-                    rollback(c, ncav);
-                    return GTET_ERR_OUT_OF_MEMORY;
-                }
                 GTET_DEBUG_ASSERT(!c->colour || km_owned(c, u));  /* a write: ours (O2) */
                 km_kill(m, u);
                 prefetch_neighbours(m, u);
                 c->cav[ncav++] = u;
             } else {
                 *k = u;
-                if (grow((void **)&c->bnd, &c->bnd_cap, nb + 1, sizeof *c->bnd)) {
-                    rollback(c, ncav);
-                    return GTET_ERR_OUT_OF_MEMORY;
-                }
                 kbound *b = &c->bnd[nb++];
-                memcpy(b->v, m->tv + 4 * (size_t)t, sizeof b->v);
-                b->v[0] &= ~KM_DEAD;  /* t is already marked */
+                memcpy(b->v, tvt, sizeof b->v);
                 /* A ghost whose finite facet is on the boundary becomes a finite tet
                  * (a,b,c,p).  The consistency of the hull rule with the interior rule
                  * (proofs/perturbation.md) makes it positively oriented; a flat or inverted

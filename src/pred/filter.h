@@ -235,4 +235,137 @@ static inline int pred_insphere_filter(const double *a, const double *b, const d
     return (det > eps) - (det < -eps);
 }
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+/* pred_insphere_filter with two lanes at a time (SSE2, x86-64's baseline): the same answer and
+ * the same record, bit for bit.  Every value is computed by exactly the operation, on exactly
+ * the operands, of the FIXED evaluation order above; only which values share a register
+ * changes (lane-wise IEEE operations round each lane as the scalar operation would).  Two
+ * rewritings are used, both exact identities of IEEE arithmetic: x + y*z is computed as
+ * x - (-y)*z (negation and x - w = x + (-w) are exact), so that the lanes of a pair all
+ * subtract; and a product's operands may be swapped.  The pairs:
+ *     (ab, cd) = (ax, cx)*(by, dy) - (bx, dx)*(ay, cy)
+ *     (bc, da) = (bx, dx)*(cy, ay) - (cx, ax)*(by, dy)
+ *     (ac, bd) = (ax, bx)*(cy, dy) - (cx, dx)*(ay, by)
+ *     (abc, cda) = ((az, cz)*(bc, da) - (bz, -dz)*(ac, ac)) + (cz, az)*(ab, cd)
+ *     (bcd, dab) = ((bz, dz)*(cd, ab) - (cz, -az)*(bd, bd)) + (dz, bz)*(bc, da)
+ *     (aw, bw) = ((ax, bx)^2 + (ay, by)^2) + (az, bz)^2, (cw, dw) likewise
+ *     det = lane 0 + lane 1 of (cw, aw)*(dab, bcd) - (dw, bw)*(abc, cda)
+ * (x^2 is x*x; proofs/filters.md section 13.)  When the static test does not decide, the
+ * scalar filter's remaining statements run on the lanes' values (pred_insphere_packed_rest_).
+ * ~2/3 of the scalar form's instructions (NOTES.md E140); tests/test_pred_packed_filter.c
+ * compares det~, the answers and the records with the scalar filter's. */
+#define PRED_INSPHERE_PACKED 1
+static inline __m128d pred_swap_(__m128d x) { return _mm_shuffle_pd(x, x, 1); }
+
+/* The lanes an undecided call's rest needs: the translated points and the 3x3 minors. */
+typedef struct pred_is_lanes_ {
+    __m128d A, B, C, D, Z1, Z2, abc_cda, bcd_dab;
+} pred_is_lanes_;
+
+static inline double pred_insphere_lanes_(const double *a, const double *b, const double *c,
+                                          const double *d, const double *e, pred_is_lanes_ *L)
+{
+    const __m128d exy = _mm_loadu_pd(e), ez = _mm_set1_pd(e[2]);
+    const __m128d A = _mm_sub_pd(_mm_loadu_pd(a), exy);   /* (ax, ay) */
+    const __m128d B = _mm_sub_pd(_mm_loadu_pd(b), exy);
+    const __m128d C = _mm_sub_pd(_mm_loadu_pd(c), exy);
+    const __m128d D = _mm_sub_pd(_mm_loadu_pd(d), exy);
+    const __m128d Z1 = _mm_sub_pd(_mm_loadh_pd(_mm_load_sd(a + 2), b + 2), ez); /* (az, bz) */
+    const __m128d Z2 = _mm_sub_pd(_mm_loadh_pd(_mm_load_sd(c + 2), d + 2), ez); /* (cz, dz) */
+    const __m128d X1 = _mm_unpacklo_pd(A, C), Y1 = _mm_unpackhi_pd(A, C); /* (ax,cx) (ay,cy) */
+    const __m128d X2 = _mm_unpacklo_pd(B, D), Y2 = _mm_unpackhi_pd(B, D); /* (bx,dx) (by,dy) */
+    const __m128d XA = _mm_unpacklo_pd(A, B), YA = _mm_unpackhi_pd(A, B); /* (ax,bx) (ay,by) */
+    const __m128d XC = _mm_unpacklo_pd(C, D), YC = _mm_unpackhi_pd(C, D); /* (cx,dx) (cy,dy) */
+    const __m128d ab_cd = _mm_sub_pd(_mm_mul_pd(X1, Y2), _mm_mul_pd(X2, Y1));
+    const __m128d bc_da = _mm_sub_pd(_mm_mul_pd(X2, pred_swap_(Y1)),
+                                     _mm_mul_pd(pred_swap_(X1), Y2));
+    const __m128d ac_bd = _mm_sub_pd(_mm_mul_pd(XA, YC), _mm_mul_pd(XC, YA));
+    const __m128d neg_hi = _mm_set_pd(-0.0, 0.0);          /* flips lane 1's sign */
+    const __m128d azcz = _mm_unpacklo_pd(Z1, Z2), bzdz = _mm_unpackhi_pd(Z1, Z2);
+    const __m128d czaz = pred_swap_(azcz), dzbz = pred_swap_(bzdz);
+    const __m128d abc_cda = _mm_add_pd(
+        _mm_sub_pd(_mm_mul_pd(azcz, bc_da),
+                   _mm_mul_pd(_mm_xor_pd(bzdz, neg_hi), _mm_unpacklo_pd(ac_bd, ac_bd))),
+        _mm_mul_pd(czaz, ab_cd));
+    const __m128d bcd_dab = _mm_add_pd(
+        _mm_sub_pd(_mm_mul_pd(bzdz, pred_swap_(ab_cd)),
+                   _mm_mul_pd(_mm_xor_pd(czaz, neg_hi), _mm_unpackhi_pd(ac_bd, ac_bd))),
+        _mm_mul_pd(dzbz, bc_da));
+    const __m128d awbw = _mm_add_pd(_mm_add_pd(_mm_mul_pd(XA, XA), _mm_mul_pd(YA, YA)),
+                                    _mm_mul_pd(Z1, Z1));
+    const __m128d cwdw = _mm_add_pd(_mm_add_pd(_mm_mul_pd(XC, XC), _mm_mul_pd(YC, YC)),
+                                    _mm_mul_pd(Z2, Z2));
+    const __m128d halves = _mm_sub_pd(_mm_mul_pd(_mm_unpacklo_pd(cwdw, awbw), pred_swap_(bcd_dab)),
+                                      _mm_mul_pd(_mm_unpackhi_pd(cwdw, awbw), abc_cda));
+    *L = (pred_is_lanes_){A, B, C, D, Z1, Z2, abc_cda, bcd_dab};
+    return _mm_cvtsd_f64(_mm_add_sd(halves, _mm_unpackhi_pd(halves, halves)));
+}
+
+/* det~ alone (the test's handle on the lanes) */
+static inline double pred_insphere_det_packed_(const double *a, const double *b,
+                                               const double *c, const double *d,
+                                               const double *e)
+{
+    pred_is_lanes_ L;
+    return pred_insphere_lanes_(a, b, c, d, e, &L);
+}
+
+/* The static test failed: the rest of pred_insphere_filter (from `if (seps == 0)` on), the
+ * same statements on the same values (handed over from the lanes), so that an undecided call
+ * does not pay for a second evaluation (the sphere and the paraboloid, where the static
+ * bound rarely decides).  tests/test_pred_packed_filter.c compares the records byte for byte. */
+static inline int pred_insphere_packed_rest_(const pred_is_lanes_ *L, double det, double seps,
+                                             double *minors)
+{
+    double t[16];
+    _mm_storeu_pd(t, L->A);
+    _mm_storeu_pd(t + 2, L->B);
+    _mm_storeu_pd(t + 4, L->C);
+    _mm_storeu_pd(t + 6, L->D);
+    _mm_storeu_pd(t + 8, L->Z1);
+    _mm_storeu_pd(t + 10, L->Z2);
+    _mm_storeu_pd(t + 12, L->abc_cda);
+    _mm_storeu_pd(t + 14, L->bcd_dab);
+    const double ax = t[0], ay = t[1], bx = t[2], by = t[3], cx = t[4], cy = t[5];
+    const double dx = t[6], dy = t[7], az = t[8], bz = t[9], cz = t[10], dz = t[11];
+    const double abc = t[12], cda = t[13], bcd = t[14], dab = t[15];
+    if (seps == 0) {
+        if (minors) {
+            minors[0] = abc;
+            minors[1] = bcd;
+            minors[2] = cda;
+            minors[3] = dab;
+        }
+        return 0;
+    }
+    const double X = pred_max_(pred_max_(pred_fabs_(ax), pred_fabs_(bx)),
+                               pred_max_(pred_fabs_(cx), pred_fabs_(dx)));
+    const double Y = pred_max_(pred_max_(pred_fabs_(ay), pred_fabs_(by)),
+                               pred_max_(pred_fabs_(cy), pred_fabs_(dy)));
+    const double Z = pred_max_(pred_max_(pred_fabs_(az), pred_fabs_(bz)),
+                               pred_max_(pred_fabs_(cz), pred_fabs_(dz)));
+    const double lo = pred_min_(pred_min_(X, Y), Z);
+    const double M = pred_max_(pred_max_(X, Y), Z);
+    if (!(lo >= PRED_IS_LO && M <= PRED_IS_HI))
+        return minors ? pred_insphere_keep_(minors, abc, bcd, cda, dab, det, __builtin_inf()) : 0;
+    const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
+    if (minors && !(det > eps) && !(det < -eps))
+        pred_insphere_keep_(minors, abc, bcd, cda, dab, det, (((X * Y) * Z) * M) * M);
+    return (det > eps) - (det < -eps);
+}
+
+/* det~ and the static test on the lanes, then the rest of the scalar filter on their values. */
+static inline int pred_insphere_filter_packed(const double *a, const double *b, const double *c,
+                                              const double *d, const double *e, double seps,
+                                              double *minors)
+{
+    pred_is_lanes_ L;
+    const double det = pred_insphere_lanes_(a, b, c, d, e, &L);
+    if (det > seps) return 1;
+    if (det < -seps) return -1;
+    return pred_insphere_packed_rest_(&L, det, seps, minors);
+}
+#endif
+
 #endif

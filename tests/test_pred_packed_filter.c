@@ -1,0 +1,177 @@
+/* test_pred_packed_filter.c -- the kernel's two-lane insphere filter
+ * (src/pred/filter.h pred_insphere_filter_packed) is the scalar filter bit for bit.
+ *
+ * Specification: its det~ (pred_insphere_det_packed_) is the bytes of det~ evaluated in
+ * filter.h's FIXED order (typed again here; NaN for NaN); on every tuple and every kind of
+ * static bound (none, a box's, 0 for a lattice) the packed filter returns what
+ * pred_insphere_filter returns and leaves the same record (compared as bytes) when undecided.
+ * Tuples: uniform in a box, points rounded onto a sphere with a fifth point near it (the
+ * record's path), ulp neighbours of lattice points of an integer sphere (exactly co-spherical:
+ * seps 0), random doubles of every magnitude (the guards, overflowing translations), and small
+ * integers with zeros.  Where SSE2 is not available the kernel uses the scalar filter and there
+ * is nothing to compare.
+ */
+#include "pred/filter.h"
+#include "pred_gen.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <string.h>
+
+#ifdef PRED_INSPHERE_PACKED
+
+static long compared, undecided;
+
+/* det~ in the FIXED evaluation order of filter.h, typed again (the reference) */
+static double det_scalar(double (*p)[3])
+{
+    const double *a = p[0], *b = p[1], *c = p[2], *d = p[3], *e = p[4];
+    const double ax = a[0] - e[0], ay = a[1] - e[1], az = a[2] - e[2];
+    const double bx = b[0] - e[0], by = b[1] - e[1], bz = b[2] - e[2];
+    const double cx = c[0] - e[0], cy = c[1] - e[1], cz = c[2] - e[2];
+    const double dx = d[0] - e[0], dy = d[1] - e[1], dz = d[2] - e[2];
+    const double ab = ax * by - bx * ay;
+    const double bc = bx * cy - cx * by;
+    const double cd = cx * dy - dx * cy;
+    const double da = dx * ay - ax * dy;
+    const double ac = ax * cy - cx * ay;
+    const double bd = bx * dy - dx * by;
+    const double abc = (az * bc - bz * ac) + cz * ab;
+    const double bcd = (bz * cd - cz * bd) + dz * bc;
+    const double cda = (cz * da + dz * ac) + az * cd;
+    const double dab = (dz * ab + az * bd) + bz * da;
+    const double aw = (ax * ax + ay * ay) + az * az;
+    const double bw = (bx * bx + by * by) + bz * bz;
+    const double cw = (cx * cx + cy * cy) + cz * cz;
+    const double dw = (dx * dx + dy * dy) + dz * dz;
+    return (cw * dab - dw * abc) + (aw * bcd - bw * cda);
+}
+
+static void compare(double (*p)[3], double seps)
+{
+    double ms[PRED_IS_NMINORS], mp[PRED_IS_NMINORS];
+    memset(ms, 0x5a, sizeof ms);
+    memset(mp, 0x5a, sizeof mp);
+    const int s = pred_insphere_filter(p[0], p[1], p[2], p[3], p[4], seps, ms);
+    const int k = pred_insphere_filter_packed(p[0], p[1], p[2], p[3], p[4], seps, mp);
+    const double ds = det_scalar(p), dp = pred_insphere_det_packed_(p[0], p[1], p[2], p[3], p[4]);
+    compared++;
+    undecided += s == 0;
+    TEST_CHECK(memcmp(&ds, &dp, sizeof ds) == 0 || (isnan(ds) && isnan(dp)),
+               "det~ scalar %a packed %a", ds, dp);
+    if (s != k || memcmp(ms, mp, sizeof ms) != 0) {
+        TEST_CHECK(0, "scalar %d packed %d (seps %a) at (%a %a %a) (%a %a %a) (%a %a %a) "
+                   "(%a %a %a) (%a %a %a); records %a %a %a %a %a %a / %a %a %a %a %a %a", s, k,
+                   seps, p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2], p[2][0], p[2][1],
+                   p[2][2], p[3][0], p[3][1], p[3][2], p[4][0], p[4][1], p[4][2], ms[0], ms[1],
+                   ms[2], ms[3], ms[4], ms[5], mp[0], mp[1], mp[2], mp[3], mp[4], mp[5]);
+    }
+}
+
+static void compare_all_bounds(double (*p)[3], double box_seps)
+{
+    compare(p, PRED_NO_STATIC);
+    compare(p, box_seps);
+    compare(p, 0.0);
+}
+
+static void test_uniform_tuples_agree(void)
+{
+    tu_rng r = {1};
+    const double seps = pred_insphere_static_eps(1.0, 1.0, 1.0);
+    for (int n = 0; n < 200000; n++) {
+        double p[5][3];
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) p[i][j] = tu_uniform(&r);
+        compare_all_bounds(p, seps);
+    }
+}
+
+static void test_near_cospherical_tuples_agree(void)
+{
+    /* rounded onto the unit sphere: the static bound and often the semi-static one fail, so
+     * the record is compared too */
+    tu_rng r = {2};
+    const double seps = pred_insphere_static_eps(2.0, 2.0, 2.0);
+    long before = undecided;
+    for (int n = 0; n < 100000; n++) {
+        double p[5][3];
+        for (int i = 0; i < 5; i++) {
+            double v[3], q = 0;
+            for (int j = 0; j < 3; j++) {
+                v[j] = 2 * tu_uniform(&r) - 1;
+                q += v[j] * v[j];
+            }
+            q = sqrt(q);
+            for (int j = 0; j < 3; j++) p[i][j] = v[j] / q;
+        }
+        if (n & 1) pg_perturb(&r, p, 5);
+        compare_all_bounds(p, seps);
+    }
+    TEST_CHECK(undecided - before > 1000, "only %ld undecided: the record was hardly compared",
+               undecided - before);
+}
+
+static void test_lattice_sphere_neighbours_agree(void)
+{
+    static int64_t pts[4096][3];
+    const int n = pg_sphere_lattice(5 * 5 * 13 * 13, pts, 4096);
+    TEST_REQUIRE(n >= 5, "sphere lattice: %d points", n);
+    tu_rng r = {3};
+    const double seps = pred_insphere_static_eps(130.0, 130.0, 130.0);
+    for (int t = 0; t < 50000; t++) {
+        double p[5][3];
+        for (int i = 0; i < 5; i++) {
+            const int k = (int)tu_below(&r, (uint64_t)n);
+            for (int j = 0; j < 3; j++) p[i][j] = (double)pts[k][j];
+        }
+        if (t % 3 == 0) pg_perturb(&r, p, 5);
+        compare_all_bounds(p, seps);
+    }
+}
+
+static void test_every_magnitude_agrees(void)
+{
+    /* subnormals to DBL_MAX: the guards' paths, infinite and NaN translations */
+    tu_rng r = {4};
+    for (int t = 0; t < 100000; t++) {
+        double p[5][3];
+        const int lo = (int)tu_below(&r, 2038) - 1074, hi = lo + (int)tu_below(&r, 60);
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) p[i][j] = pg_double_exp(&r, lo, hi);
+        compare_all_bounds(p, pred_insphere_static_eps(ldexp(1.0, hi + 1), ldexp(1.0, hi + 1),
+                                                       ldexp(1.0, hi + 1)));
+    }
+}
+
+static void test_small_integers_with_zeros_agree(void)
+{
+    tu_rng r = {5};
+    for (int t = 0; t < 100000; t++) {
+        double p[5][3];
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 3; j++) p[i][j] = (double)pg_int(&r, 2);
+        compare_all_bounds(p, pred_insphere_static_eps(4.0, 4.0, 4.0));
+    }
+}
+
+int main(void)
+{
+    TU_RUN(test_uniform_tuples_agree);
+    TU_RUN(test_near_cospherical_tuples_agree);
+    TU_RUN(test_lattice_sphere_neighbours_agree);
+    TU_RUN(test_every_magnitude_agrees);
+    TU_RUN(test_small_integers_with_zeros_agree);
+    printf("%ld comparisons, %ld undecided\n", compared, undecided);
+    return tu_finish();
+}
+
+#else
+
+int main(void)
+{
+    printf("no packed filter on this target: the kernel uses the scalar one\n");
+    return 0;
+}
+
+#endif
