@@ -382,6 +382,15 @@ static void big_blocks_ask_for_huge_pages(void)
     vm_flags(p, flags, sizeof flags);
     TEST_CHECK(strstr(flags, " hg") != NULL, "big: VmFlags%s", flags);
     free(p);
+    /* GTET_HUGEPAGES=off: the same blocks advised against huge pages (NOTES.md E162) */
+    setenv("GTET_HUGEPAGES", "off", 1);
+    p = base_alloc_huge(big);
+    TEST_REQUIRE(p != NULL, "allocation");
+    vm_flags(p, flags, sizeof flags);
+    TEST_CHECK(strstr(flags, " hg") == NULL && strstr(flags, " nh") != NULL,
+               "GTET_HUGEPAGES=off: VmFlags%s", flags);
+    free(p);
+    unsetenv("GTET_HUGEPAGES");
 }
 
 /* base_populate maps the whole pages inside its range, and only those. */
