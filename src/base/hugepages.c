@@ -28,11 +28,11 @@
 #define BASE_HUGE_PAGE ((uintptr_t)2 << 20)
 
 /* GTET_HUGEPAGES=off (or 0) in the environment: big arrays are advised MADV_NOHUGEPAGE
- * instead, for hosts where a fresh huge page costs more than the TLB misses it saves.  On this
- * project's test machine in its ninth session (a KVM guest that reports free 2 MiB blocks to
- * its host) a cold huge page cost ~2.3 s a GiB against ~0.6 for 4 KiB pages, and 1M-4M `-t 1`
- * runs were 15-18% faster without; on the earlier hosts the opposite held (NOTES.md Q26, E162,
- * E19, E22).  Read at each call (a few a run): no state. */
+ * instead, for hosts where a fresh huge page costs more than the TLB misses it saves (a virtual
+ * machine that hands its free 2 MiB blocks back to its host makes every huge page it faults
+ * afresh cost a host fault; 4 KiB pages come first from smaller free blocks, which it keeps).
+ * Which choice is faster is a property of the machine: NOTES.md Q26, E162.  Read at each call
+ * (a few a run): no state. */
 static int hugepages_off(void)
 {
     const char *e = getenv("GTET_HUGEPAGES");

@@ -59,9 +59,9 @@ static int sort_by_id(mpt *a, size_t n)
  * read.  Each array's block has the room for that: the local triangulation's arrays are
  * allocated with it (gtet_triangulate_wide) and the patch keeps it (mpi_patch.c
  * reserve_tets); should a block lack it, the array grows in place when the memory after it is
- * free (can_grow), else it is widened into fresh memory.  On this VM memory first touched
- * costs 0.16-7.6 s a GiB (NOTES.md Q14): an array widened where it lies takes 16 B an owned
- * tet of fresh memory, a fresh result 32. */
+ * free (can_grow), else it is widened into fresh memory.  Memory first touched is costly
+ * (NOTES.md Q14): an array widened where it lies takes 16 B an owned tet of fresh memory, a
+ * fresh result 32. */
 typedef struct outx {
     uint32_t *lid;      /* local tet -> owned index, or NOLID */
     const uint64_t *vid;/* local vertex -> global id */

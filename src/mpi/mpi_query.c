@@ -223,7 +223,7 @@ gtet_status mx_grid_build(run *R)
  * its points' exact bounding box) within r of c has (x_k - c_k)^2 <= r^2 - d_j^2 - d_l^2 for
  * the two other axes j, l, d_j the distance from c_j to the box's range on axis j.  The huge
  * ball of a flat tet near the global hull meets the tile in a thin lens, and its range c +- r
- * was the whole grid: every block visited, ~0.1-0.3 ms a query (NOTES E132).  Computed with
+ * was the whole grid: every block visited (NOTES E132).  Computed with
  * r (1 + 1e-9), whose excess (~2e-9 r^2) exceeds the rounding of the squares and differences
  * (< 10 eps r^2), the half-width widened like the ball's own range: no cell holding a point
  * within r of c is left out, so the answer is the same. */

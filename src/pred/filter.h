@@ -314,7 +314,9 @@ static inline double pred_insphere_det_packed_(const double *a, const double *b,
 /* The static test failed: the rest of pred_insphere_filter (from `if (seps == 0)` on), the
  * same statements on the same values (handed over from the lanes), so that an undecided call
  * does not pay for a second evaluation (the sphere and the paraboloid, where the static
- * bound rarely decides).  tests/test_pred_packed_filter.c compares the records byte for byte. */
+ * bound rarely decides).  tests/test_pred_packed_filter.c compares the records byte for byte.
+ * Repeated rather than shared with pred_insphere_filter: proofs/check builds the Gappa model
+ * of the certified bound from that function's own text, which a helper would take apart. */
 static inline int pred_insphere_packed_rest_(const pred_is_lanes_ *L, double det, double seps,
                                              double *minors)
 {
