@@ -1,9 +1,10 @@
 /* touch_probe.c -- how long this machine takes to hand a process fresh memory.
  *
- *   touch_probe [MIB]      (default 1024)
+ *   touch_probe [MIB [huge|small]]      (default 1024 huge)
  *
- * Allocates MIB MiB on 2 MiB boundaries with huge pages asked for (as gigatet's big arrays
- * are: src/base/hugepages.c), writes one byte per 4 KiB page, then does it again, and prints
+ * Allocates MIB MiB on 2 MiB boundaries with huge pages asked for (`huge`, as gigatet's big
+ * arrays are by default: src/base/hugepages.c) or refused (`small`: MADV_NOHUGEPAGE, as with
+ * GTET_HUGEPAGES=off), writes one byte per 4 KiB page, then does it again, and prints
  *   "first_touch_s_per_gib X second_touch_s_per_gib Y"
  * The first pass is what a run pays for every new page it writes: the kernel's zeroing, and in
  * a virtual machine whose host takes freed memory back (free page reporting) the host's fault
@@ -38,13 +39,18 @@ int main(int argc, char **argv)
         fprintf(stderr, "touch_probe: MIB must be 1..1048576, not '%s'\n", argc > 1 ? argv[1] : "");
         return 2;
     }
+    const char *mode = argc > 2 ? argv[2] : "huge";
+    if (strcmp(mode, "huge") != 0 && strcmp(mode, "small") != 0) {
+        fprintf(stderr, "touch_probe: the mode must be huge or small, not '%s'\n", mode);
+        return 2;
+    }
     const size_t n = (size_t)mib << 20;
     char *p = aligned_alloc((size_t)1 << 21, n);
     if (!p) {
         fprintf(stderr, "touch_probe: cannot allocate %ld MiB\n", mib);
         return 4;
     }
-    madvise(p, n, MADV_HUGEPAGE);
+    madvise(p, n, strcmp(mode, "huge") == 0 ? MADV_HUGEPAGE : MADV_NOHUGEPAGE);
     const double gib = (double)mib / 1024.0;
     const double first = touch(p, n, 1), second = touch(p, n, 2);
     printf("first_touch_s_per_gib %.3f second_touch_s_per_gib %.3f\n", first / gib, second / gib);

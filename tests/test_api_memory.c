@@ -365,6 +365,8 @@ static void big_blocks_ask_for_huge_pages(void)
         printf("  (no transparent huge pages here: skipped)\n");
         return;
     }
+    setenv("GTET_HUGEPAGES", "on", 1);  /* the automatic choice is tested below */
+    base_page_mode_reset();
     const size_t big = (size_t)9 << 20;
     char *p = base_alloc_huge(big);
     TEST_REQUIRE(p != NULL, "allocation");
@@ -384,13 +386,34 @@ static void big_blocks_ask_for_huge_pages(void)
     free(p);
     /* GTET_HUGEPAGES=off: the same blocks advised against huge pages (NOTES.md E162) */
     setenv("GTET_HUGEPAGES", "off", 1);
+    base_page_mode_reset();
     p = base_alloc_huge(big);
     TEST_REQUIRE(p != NULL, "allocation");
     vm_flags(p, flags, sizeof flags);
     TEST_CHECK(strstr(flags, " hg") == NULL && strstr(flags, " nh") != NULL,
                "GTET_HUGEPAGES=off: VmFlags%s", flags);
     free(p);
+    /* the decision is kept: changing the environment afterwards changes nothing */
+    setenv("GTET_HUGEPAGES", "on", 1);
+    TEST_CHECK(base_page_mode() == BASE_PAGES_SMALL, "the decision was not kept");
+    /* unset (auto): small pages exactly when a 4 KiB fault was measured cheap (hugepages.c;
+     * measured only on a guest that reports free memory to its host), and the blocks advised
+     * as decided (NOTES.md E163) */
     unsetenv("GTET_HUGEPAGES");
+    base_page_mode_reset();
+    const int mode = base_page_mode();
+    const double us = base_small_fault_us();
+    printf("  auto: %s pages (4 KiB fault %.2f us%s)\n", mode == BASE_PAGES_SMALL ? "4 KiB" : "huge",
+           us, us < 0 ? ": not measured, no free page reporting seen" : "");
+    TEST_CHECK(mode == (us >= 0 && us < 5.0 ? BASE_PAGES_SMALL : BASE_PAGES_HUGE),
+               "auto chose %d with a 4 KiB fault of %.2f us", mode, us);
+    p = base_alloc_huge(big);
+    TEST_REQUIRE(p != NULL, "allocation");
+    vm_flags(p, flags, sizeof flags);
+    TEST_CHECK(strstr(flags, mode == BASE_PAGES_SMALL ? " nh" : " hg") != NULL,
+               "auto (%d): VmFlags%s", mode, flags);
+    free(p);
+    base_page_mode_reset();
 }
 
 /* base_populate maps the whole pages inside its range, and only those. */

@@ -37,6 +37,20 @@ gtet_status base_fail(gtet_error *err, gtet_status s, const char *what);
  * hint for the big randomly-read arrays; no effect on anything but speed, none off Linux. */
 void base_hugepages(void *p, size_t bytes);
 
+/* The pages base_hugepages asks for: BASE_PAGES_HUGE (MADV_HUGEPAGE) or BASE_PAGES_SMALL
+ * (MADV_NOHUGEPAGE).  Decided at the first call of a process and kept: GTET_HUGEPAGES=on / off,
+ * else (auto) small pages on a virtual machine that reports its free memory to its host and
+ * faults a 4 KiB page cheaply (measured once, ~2 ms), huge pages elsewhere (hugepages.c). */
+enum { BASE_PAGES_HUGE = 1, BASE_PAGES_SMALL = 2 };
+int base_page_mode(void);
+
+/* The measured cost of a 4 KiB page fault in microseconds, or a negative value when the
+ * decision did not measure it (an explicit GTET_HUGEPAGES, or a host that reports nothing). */
+double base_small_fault_us(void);
+
+/* Forget the decision (tests: the next base_page_mode decides again from the environment). */
+void base_page_mode_reset(void);
+
 /* malloc for a big array (free/realloc as usual): from 4 MiB on it starts on a 2 MiB boundary
  * and has huge pages asked for (base_hugepages), so that they begin at its first byte; below,
  * plain malloc.  NULL when out of memory (bytes 0: a valid pointer). */

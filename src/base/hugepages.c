@@ -8,35 +8,138 @@
  * free), the array simply stays on 4 KiB pages.  Measured in NOTES.md E19.  Only whole 2 MiB
  * pages inside the array are advised, never memory the array does not own.
  *
- * On this project's test machine (a PVM guest) a fault of a 4 KiB page costs ~20 us whether or
- * not the memory was just freed, while a 2 MiB page freed by one array and faulted by the next
- * within a second costs ~0.1 s a GiB instead of 2.5-3.5: big arrays belong on huge pages from
- * their first byte (base_alloc_huge), and base_populate maps an array's pages right after
- * others were freed (NOTES.md E110, E111).
+ * Where a 4 KiB fault is expensive (a guest whose page tables its host shadows), big arrays
+ * belong on huge pages from their first byte (base_alloc_huge), and base_populate maps an
+ * array's pages right after others were freed, while the freed huge pages are still the
+ * guest's (NOTES.md E110, E111).  Where the guest hands its free 2 MiB blocks back to its host
+ * and 4 KiB faults are cheap, 4 KiB pages are faster: base_page_mode decides (below).
  */
 #define _DEFAULT_SOURCE /* madvise, MADV_HUGEPAGE */
 #include "base.h"
 
+#include <stdatomic.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #if defined(__linux__)
+#include <dirent.h>
 #include <sys/mman.h>
+#include <time.h>
 #endif
 
 #define BASE_HUGE_PAGE ((uintptr_t)2 << 20)
 
-/* GTET_HUGEPAGES=off (or 0) in the environment: big arrays are advised MADV_NOHUGEPAGE
- * instead, for hosts where a fresh huge page costs more than the TLB misses it saves (a virtual
- * machine that hands its free 2 MiB blocks back to its host makes every huge page it faults
- * afresh cost a host fault; 4 KiB pages come first from smaller free blocks, which it keeps).
- * Which choice is faster is a property of the machine: NOTES.md Q26, E162.  Read at each call
- * (a few a run): no state. */
-static int hugepages_off(void)
+/* Which pages the big arrays ask for, decided once a process (base_page_mode):
+ *   GTET_HUGEPAGES=on           huge pages (MADV_HUGEPAGE);
+ *   GTET_HUGEPAGES=off (or 0)   4 KiB pages (MADV_NOHUGEPAGE);
+ *   unset, auto or anything else: 4 KiB pages when the machine is a virtual machine that reports
+ *     its free memory to its host (a virtio balloon with free page reporting) and a 4 KiB page
+ *     fault is cheap there (measured: below SMALL_FAULT_CHEAP_US); huge pages otherwise.
+ * Why both tests: a guest that reports its free 2 MiB blocks to the host makes every huge page
+ * it faults afresh a host fault (the block was given back), while 4 KiB pages come first from
+ * smaller free blocks, which are never reported; but where a 4 KiB fault itself is slow (a
+ * guest whose page tables the host shadows) huge pages still win, by the faults and the TLB
+ * misses they save.  On a machine that reports nothing, huge pages cost one zeroing of 2 MiB
+ * and save TLB misses: the default.  The choice changes speed only, never the mesh.  The
+ * measurements behind it: NOTES.md Q26, E162, E163. */
+#define SMALL_FAULT_CHEAP_US 5.0
+
+static _Atomic int page_mode;  /* 0 undecided, else BASE_PAGES_HUGE / BASE_PAGES_SMALL */
+static _Atomic double small_fault_us = -1.0;
+
+#if defined(__linux__)
+/* 1 when a virtio balloon offers free page reporting (VIRTIO_BALLOON_F_REPORTING, feature bit
+ * 5; sysfs lists a device's features as a string of '0'/'1' from bit 0).  0 when none is seen
+ * or sysfs cannot be read. */
+static int host_takes_free_pages(void)
+{
+    DIR *d = opendir("/sys/bus/virtio/devices");
+    if (!d) return 0;
+    int found = 0;
+    struct dirent *e;
+    while (!found && (e = readdir(d)) != NULL) {
+        if (e->d_name[0] == '.') continue;
+        char path[512], id[16] = "", feat[160] = "";
+        snprintf(path, sizeof path, "/sys/bus/virtio/devices/%s/device", e->d_name);
+        FILE *f = fopen(path, "r");
+        if (!f) continue;
+        const int ok = fgets(id, sizeof id, f) != NULL;
+        fclose(f);
+        if (!ok || strtol(id, NULL, 16) != 5) continue;  /* 5: the balloon */
+        snprintf(path, sizeof path, "/sys/bus/virtio/devices/%s/features", e->d_name);
+        if (!(f = fopen(path, "r"))) continue;
+        if (fgets(feat, sizeof feat, f) && strlen(feat) > 5 && feat[5] == '1') found = 1;
+        fclose(f);
+    }
+    closedir(d);
+    return found;
+}
+
+static double seconds_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* The cost of a fresh 4 KiB page fault in microseconds: the fastest of five batches of 256
+ * (a batch the scheduler interrupts is slower, never faster).  About 2 ms in all where faults
+ * are cheap.  A negative value when memory cannot be mapped. */
+static double measure_small_fault_us(void)
+{
+    const size_t pages = 256, bytes = pages * 4096;
+    double best = -1.0;
+    for (int r = 0; r < 5; r++) {
+        char *p = mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (p == MAP_FAILED) break;
+        (void)madvise(p, bytes, MADV_NOHUGEPAGE);
+        const double t0 = seconds_now();
+        for (size_t i = 0; i < bytes; i += 4096) ((volatile char *)p)[i] = 1;
+        const double us = (seconds_now() - t0) * 1e6 / (double)pages;
+        munmap(p, bytes);
+        if (best < 0 || us < best) best = us;
+    }
+    return best;
+}
+#endif
+
+static int decide_page_mode(void)
 {
     const char *e = getenv("GTET_HUGEPAGES");
-    return e && (strcmp(e, "off") == 0 || strcmp(e, "0") == 0);
+    if (e && (strcmp(e, "off") == 0 || strcmp(e, "0") == 0)) return BASE_PAGES_SMALL;
+    if (e && strcmp(e, "on") == 0) return BASE_PAGES_HUGE;
+#if defined(__linux__)
+    if (!host_takes_free_pages()) return BASE_PAGES_HUGE;
+    const double us = measure_small_fault_us();
+    small_fault_us = us;
+    return us >= 0 && us < SMALL_FAULT_CHEAP_US ? BASE_PAGES_SMALL : BASE_PAGES_HUGE;
+#else
+    return BASE_PAGES_HUGE;
+#endif
+}
+
+int base_page_mode(void)
+{
+    int m = page_mode;
+    if (!m) {  /* two threads deciding at once measure twice and agree but for noise: either */
+        m = decide_page_mode();  /* answer is a valid choice, and the first stored one stays */
+        int expected = 0;
+        if (!atomic_compare_exchange_strong(&page_mode, &expected, m)) m = expected;
+    }
+    return m;
+}
+
+double base_small_fault_us(void)
+{
+    return small_fault_us;
+}
+
+void base_page_mode_reset(void)
+{
+    page_mode = 0;
+    small_fault_us = -1.0;
 }
 
 void base_hugepages(void *p, size_t bytes)
@@ -46,7 +149,8 @@ void base_hugepages(void *p, size_t bytes)
     const uintptr_t a = ((uintptr_t)p + BASE_HUGE_PAGE - 1) & ~(BASE_HUGE_PAGE - 1);
     const uintptr_t e = ((uintptr_t)p + bytes) & ~(BASE_HUGE_PAGE - 1);
     if (e > a)
-        (void)madvise((void *)a, (size_t)(e - a), hugepages_off() ? MADV_NOHUGEPAGE : MADV_HUGEPAGE);
+        (void)madvise((void *)a, (size_t)(e - a),
+                      base_page_mode() == BASE_PAGES_SMALL ? MADV_NOHUGEPAGE : MADV_HUGEPAGE);
 #else
     (void)p;
     (void)bytes;

@@ -12,6 +12,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #define _XOPEN_SOURCE 700 /* realpath */
+#include "base/base.h"
 #include "cli.h"
 #include "io/io_internal.h"
 #include "json.h"
@@ -184,6 +185,13 @@ static void print_stats(const tri_args *a, const gtet_mesh *mesh, const tri_time
            "\"estimated_peak_bytes\":%zu",
            st.bytes_per_tet, st.peak_bytes, cli_max_rss_bytes(),
            estimated_peak(a, mesh, st.threads));
+    /* the pages the big arrays asked for (GTET_HUGEPAGES, base_page_mode) and the 4 KiB fault
+     * cost that decided it (null when not measured): a run's time depends on them */
+    const double us = base_small_fault_us();
+    printf(",\"pages\":\"%s\",\"small_fault_us\":",
+           base_page_mode() == BASE_PAGES_SMALL ? "4k" : "huge");
+    if (us >= 0) printf("%.3f", us);
+    else printf("null");
     printf(",\"tets_created\":%llu,\"walk_steps\":%llu", (unsigned long long)st.tets_created,
            (unsigned long long)st.walk_steps);
     printf(",\"predicates\":");

@@ -68,11 +68,14 @@ if [ -n "$py" ]; then
 import json, sys
 s = json.load(sys.stdin)
 need = ["points", "vertices", "duplicates", "tets", "threads", "seconds", "bytes_per_tet",
-        "kernel_peak_bytes", "max_rss_bytes", "predicates", "rounds", "num_rounds", "tets_per_second"]
+        "kernel_peak_bytes", "max_rss_bytes", "predicates", "rounds", "num_rounds", "tets_per_second",
+        "pages", "small_fault_us"]
 missing = [k for k in need if k not in s]
 assert not missing, "missing keys %s" % missing
 assert s["points"] == 200 and s["duplicates"] == 0 and s["tets"] > 0, s
 assert s["max_rss_bytes"] > 0
+assert s["pages"] in ("huge", "4k"), s["pages"]
+assert s["small_fault_us"] is None or s["small_fault_us"] > 0, s["small_fault_us"]
 for k in ["read", "validate", "sort", "insert", "finalize", "kernel", "write", "wall"]:
     assert k in s["seconds"], k
 ' || fail "--stats JSON is not what the contract says"
