@@ -104,6 +104,13 @@ int cli_overwrites_input(const char *input, const char *out);
 /* A usage error ("PATH: CMD reads ... meshes") unless path names a readable mesh format. */
 int cli_need_mesh_format(const char *cmd, const char *path);
 
+/* The notes a failed check of mesh file `path` (read into m) gets after its message: the
+ * file's cells that were skipped, and, when `ids` and the violation names tets or vertices,
+ * how the checker's 0-based numbers map to the file's ids.  `owner` names the file in them
+ * ("the file" for check, "A" or "B" for diff).  Returns buf ("" when there is nothing to say). */
+const char *cli_mesh_note(const char *path, const char *owner, const io_mesh *m,
+                          const gtet_check_report *r, int ids, char *buf, size_t size);
+
 extern const cli_command cli_cmd_triangulate, cli_cmd_check, cli_cmd_diff, cli_cmd_generate;
 
 double cli_now(void);          /* monotonic seconds */
