@@ -102,6 +102,16 @@ static gtet_status prepare(run *r, gtet_mesh **out)
      * the memory guard counts no more (NOTES.md E159c: threads = 100000 was refused as needing
      * 97.7 GiB for 100 points, 5000 spawned 5000 threads in each OpenMP stage) */
     if (r->threads > 255) r->threads = 255;
+    /* as many threads as the system lets the process start now: libgomp ends the process when
+     * it cannot start a region's threads (ulimit -u, pids.max), and the tets do not depend on
+     * the count (NOTES.md E183); stats.threads says how many ran */
+    if (r->threads > 1) {
+        int terr = 0, have = base_threads_available(r->threads, &terr);
+        if (have < r->threads && verbose(r, 1))
+            say(r, "threads: %d of the %d asked for can run (%s)", have, r->threads,
+                strerror(terr));
+        r->threads = have;
+    }
     /* refuse a run that cannot fit before any big allocation (memory.c) */
     gtet_status s = mem_guard(r->n, r->threads, &r->opts, r->err);
     if (s != GTET_OK) return s;

@@ -56,4 +56,12 @@ void *base_alloc_big(size_t bytes);
  * the pages are mapped, -1 when the system cannot do it (nothing changed). */
 int base_populate(void *p, size_t bytes);
 
+/* How many threads, the calling one included, of `want` (>= 1) this process can run at once
+ * now: it starts want - 1 threads that wait until all are started, then ends and joins them
+ * (threads.c).  want when all started (or a larger count did before in this process: libgomp
+ * keeps its threads); else 1 + those started, with pthread_create's error number in *error
+ * (0 otherwise).  For the runs' thread counts: libgomp ends the process when it cannot start
+ * a parallel region's threads (NOTES.md E183). */
+int base_threads_available(int want, int *error);
+
 #endif

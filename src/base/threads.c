@@ -1,0 +1,64 @@
+/* threads.c -- base_threads_available: how many threads this process may run right now.
+ *
+ * libgomp starts a parallel region's threads with pthread_create and, when one cannot be
+ * created (EAGAIN: the user's process limit `ulimit -u`, a cgroup's pids.max, or no address
+ * space left for its stack under `ulimit -v`), prints "libgomp: Thread creation failed" and
+ * calls exit(1): no status reaches the caller, and a Python interpreter ends with it (NOTES.md
+ * E183).  The probe starts the threads a run would ask libgomp for, with the same attributes
+ * (the default ones: libgomp sets a stack size only for OMP_STACKSIZE), keeps them all alive at
+ * once as libgomp's team does, then lets them end and joins them.
+ */
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+
+#include "base.h"
+
+typedef struct probe {
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    int release;
+} probe;
+
+static void *wait_release(void *arg)
+{
+    probe *p = arg;
+    pthread_mutex_lock(&p->mu);
+    while (!p->release) pthread_cond_wait(&p->cv, &p->mu);
+    pthread_mutex_unlock(&p->mu);
+    return NULL;
+}
+
+/* The largest count a probe of this process found available: asked again, it is not probed.
+ * libgomp keeps the threads it started in its pool, idle, and starts none while a team fits
+ * in it; a second probe would count them twice and find fewer. */
+static atomic_int known_available = 1;
+
+int base_threads_available(int want, int *error)
+{
+    *error = 0;
+    if (want <= atomic_load_explicit(&known_available, memory_order_relaxed)) return want;
+    pthread_t *t = malloc((size_t)(want - 1) * sizeof *t);
+    if (!t) return want;  /* nothing known; the run's own allocations will say more */
+    probe p = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0};
+    int made = 0;
+    while (made < want - 1) {
+        int e = pthread_create(&t[made], NULL, wait_release, &p);
+        if (e) {
+            *error = e;
+            break;
+        }
+        made++;
+    }
+    pthread_mutex_lock(&p.mu);
+    p.release = 1;
+    pthread_cond_broadcast(&p.cv);
+    pthread_mutex_unlock(&p.mu);
+    for (int k = 0; k < made; k++) pthread_join(t[k], NULL);
+    free(t);
+    int have = made + 1;  /* the calling thread is the team's first */
+    int seen = atomic_load_explicit(&known_available, memory_order_relaxed);
+    while (have > seen && !atomic_compare_exchange_weak(&known_available, &seen, have)) {
+    }
+    return have;
+}
