@@ -27,6 +27,7 @@ What differs from scipy (Qhull):
 import functools
 import operator
 import os
+import warnings
 
 import numpy as np
 
@@ -68,6 +69,8 @@ class Delaunay:
     converted once to C-contiguous float64, which is ``self.points``).
 
     threads: worker threads of the kernel (0 = all cores); the result does not depend on it.
+             At most 255, and at most as many as the system lets the process start (ulimit -u,
+             a cgroup's pids.max): fewer than asked for give a RuntimeWarning.
     check:   run the exact checker on the result (raises CheckError if it fails).
     memory_limit: the memory guard (gtet_options.memory_limit): None (default) estimates the
              run's peak before the work and raises MemoryError at once ("needs about X, Y
@@ -131,6 +134,14 @@ class Delaunay:
             if limit <= 0:
                 raise ValueError("memory_limit must be None, 'off' or a number of bytes > 0")
         self._adopt(_gigatet.triangulate(pts, threads, bool(check), limit))
+        # the kernel starts only the threads the system lets it (ulimit -u, pids.max): libgomp
+        # would end the interpreter otherwise (NOTES.md E183); fewer than asked for is said
+        asked = min(threads, 255)
+        if asked > 1 and self._mesh.threads < asked:
+            warnings.warn("gigatet: %d of the %d threads asked for could be started (the "
+                          "process limit, ulimit -u, or memory for their stacks); the "
+                          "triangulation is the same" % (self._mesh.threads, asked),
+                          RuntimeWarning, stacklevel=2)
 
     # the attributes set from the mesh; every other array is computed from it on first use
     _FROM_MESH = ("_mesh", "points", "npoints", "nsimplex", "mesh_vertices", "mesh_tets",

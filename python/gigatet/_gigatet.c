@@ -976,6 +976,7 @@ static PyObject *mesh_get_int(MeshObject *m, void *which)
     case 1: return PyLong_FromSsize_t(m->nv);
     case 2: return PyLong_FromSsize_t(m->nt);
     case 3: return PyLong_FromSize_t(gtet_mesh_num_hull_facets(m->mesh));
+    case 5: return PyLong_FromLong(m->threads);
     default: return PyLong_FromSize_t(gtet_mesh_num_duplicates(m->mesh));
     }
 }
@@ -993,6 +994,8 @@ static PyGetSetDef mesh_getset[] = {
     {"ntets", (getter)mesh_get_int, NULL, "tetrahedra", (void *)2},
     {"nhull", (getter)mesh_get_int, NULL, "hull facets", (void *)3},
     {"nduplicates", (getter)mesh_get_int, NULL, "duplicate input points", (void *)4},
+    {"threads", (getter)mesh_get_int, NULL,
+     "threads the run used (fewer than asked when the system would not start them)", (void *)5},
     {"points", (getter)mesh_get_points, NULL, "the float64 points triangulated", NULL},
     {NULL, NULL, NULL, NULL, NULL},
 };
