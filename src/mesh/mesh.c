@@ -63,6 +63,8 @@ void gtet_mesh_stats(const gtet_mesh *m, gtet_stats *stats)
 }
 
 static gtet_status refuse(char *msg, size_t size, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static gtet_status refuse(char *msg, size_t size, const char *fmt, ...)
 {
     if (msg && size) {
         va_list ap;
