@@ -134,12 +134,14 @@ class Delaunay:
             if limit <= 0:
                 raise ValueError("memory_limit must be None, 'off' or a number of bytes > 0")
         self._adopt(_gigatet.triangulate(pts, threads, bool(check), limit))
-        # the kernel starts only the threads the system lets it (ulimit -u, pids.max): libgomp
-        # would end the interpreter otherwise (NOTES.md E183); fewer than asked for is said
+        # the kernel starts only the threads the system lets it (ulimit -u, pids.max) and
+        # OpenMP gives (NOTES.md E183, E184): libgomp would end the interpreter otherwise;
+        # fewer than asked for is said
         asked = min(threads, 255)
         if asked > 1 and self._mesh.threads < asked:
-            warnings.warn("gigatet: %d of the %d threads asked for could be started (the "
-                          "process limit, ulimit -u, or memory for their stacks); the "
+            warnings.warn("gigatet: ran on %d of the %d threads asked for (no more could be "
+                          "started or OpenMP would give no more: ulimit -u, memory for their "
+                          "stacks, OMP_THREAD_LIMIT, a call inside a parallel region); the "
                           "triangulation is the same" % (self._mesh.threads, asked),
                           RuntimeWarning, stacklevel=2)
 

@@ -64,4 +64,11 @@ int base_populate(void *p, size_t bytes);
  * a parallel region's threads (NOTES.md E183). */
 int base_threads_available(int want, int *error);
 
+/* The threads a parallel region with num_threads(want) started by the calling thread gets,
+ * dyn-var off (the caller turns it off: with it on, OpenMP may give fewer as it likes): 1 when
+ * the region would be inactive (nested inside a parallel region beyond max-active-levels),
+ * at most OMP_THREAD_LIMIT at top level, and 1 nested under a thread limit.  The stages split
+ * their work by thread number and need every thread they ask for (NOTES.md E184). */
+int base_team_size(int want);
+
 #endif

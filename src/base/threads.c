@@ -1,4 +1,5 @@
-/* threads.c -- base_threads_available: how many threads this process may run right now.
+/* threads.c -- base_threads_available: how many threads this process may run right now;
+ * base_team_size: how many a parallel region started here gets from OpenMP.
  *
  * libgomp starts a parallel region's threads with pthread_create and, when one cannot be
  * created (EAGAIN: the user's process limit `ulimit -u`, a cgroup's pids.max, or no address
@@ -8,6 +9,8 @@
  * (the default ones: libgomp sets a stack size only for OMP_STACKSIZE), keeps them all alive at
  * once as libgomp's team does, then lets them end and joins them.
  */
+#include <limits.h>
+#include <omp.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -61,4 +64,18 @@ int base_threads_available(int want, int *error)
     while (have > seen && !atomic_compare_exchange_weak(&known_available, &seen, have)) {
     }
     return have;
+}
+
+int base_team_size(int want)
+{
+    if (want <= 1) return 1;
+    /* a region at this nesting level would be inactive: one thread (called from inside a
+     * user's parallel region with nesting off, or OMP_MAX_ACTIVE_LEVELS=0) */
+    const int level = omp_get_active_level();
+    if (level >= omp_get_max_active_levels()) return 1;
+    /* OMP_THREAD_LIMIT counts every thread of the contention group: at top level this one is
+     * the only busy thread; nested, the other teams' are unknown here, so one thread */
+    const int limit = omp_get_thread_limit();
+    if (limit < INT_MAX && level > 0) return 1;
+    return want < limit ? want : limit;
 }
