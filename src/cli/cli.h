@@ -2,8 +2,9 @@
  *
  * Exit codes, the contract scripts rely on:
  *   0 ok, 1 usage, 2 bad input file or data (also: the output cannot be written),
- *   3 degenerate input (dimension < 3), 4 out of memory, 5 check failed (also: an internal
- *   error of the kernel, i.e. a broken invariant).
+ *   3 degenerate input (dimension < 3), 4 out of memory (also: the OpenMP runtime ended the
+ *   run, as when it cannot create threads: main.c), 5 check failed (also: an internal error of
+ *   the kernel, i.e. a broken invariant).
  */
 #ifndef GTET_CLI_H
 #define GTET_CLI_H

@@ -36,8 +36,8 @@ static void print_help(FILE *f)
           "\n"
           "Exit codes: 0 ok, 1 usage, 2 bad input file or data (or unwritable output),\n"
           "3 degenerate input (all points coplanar, collinear or fewer than 4 distinct),\n"
-          "4 out of memory, 5 check failed (diff: the meshes differ).  A failed run leaves no\n"
-          "partial output file.\n"
+          "4 out of memory (or threads that could not be created), 5 check failed (diff: the\n"
+          "meshes differ).  A failed run leaves no partial output file.\n"
           "\n"
           "Generator kinds:\n", f);
     for (const char *const *k = io_generator_kinds(); *k; k++)
