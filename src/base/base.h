@@ -58,10 +58,12 @@ int base_populate(void *p, size_t bytes);
 
 /* How many threads, the calling one included, of `want` (>= 1) this process can run at once
  * now: it starts want - 1 threads that wait until all are started, then ends and joins them
- * (threads.c).  want when all started (or a larger count did before in this process: libgomp
- * keeps its threads); else 1 + those started, with pthread_create's error number in *error
- * (0 otherwise).  For the runs' thread counts: libgomp ends the process when it cannot start
- * a parallel region's threads (NOTES.md E183). */
+ * (threads.c).  want when all started; else 1 + those started, with pthread_create's error
+ * number in *error (0 otherwise).  Once per process: a count found before is taken as it is
+ * (libgomp keeps the threads it started; a probe would count them twice), and once a probe has
+ * met the limit every larger request gets the largest count found, with that error.  For the
+ * runs' thread counts: libgomp ends the process when it cannot start a parallel region's
+ * threads (NOTES.md E183). */
 int base_threads_available(int want, int *error);
 
 /* The threads a parallel region with num_threads(want) started by the calling thread gets,

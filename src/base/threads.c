@@ -32,15 +32,18 @@ static void *wait_release(void *arg)
     return NULL;
 }
 
-/* The largest count a probe of this process found available: asked again, it is not probed.
- * libgomp keeps the threads it started in its pool, idle, and starts none while a team fits
- * in it; a second probe would count them twice and find fewer. */
-static atomic_int known_available = 1;
+/* The largest count a probe of this process found available, and whether a probe found the
+ * limit (with pthread_create's error): asked for no more, or once the limit is known, there is
+ * no probe.  libgomp keeps the threads it started in its pool, idle, and starts none while a
+ * team fits in it; a second probe would count them twice and find fewer (at the limit, none). */
+static atomic_int known_available = 1, limit_error;
 
 int base_threads_available(int want, int *error)
 {
     *error = 0;
-    if (want <= atomic_load_explicit(&known_available, memory_order_relaxed)) return want;
+    int known = atomic_load(&known_available);
+    if (want <= known) return want;
+    if ((*error = atomic_load(&limit_error)) != 0) return known;
     pthread_t *t = malloc((size_t)(want - 1) * sizeof *t);
     if (!t) return want;  /* nothing known; the run's own allocations will say more */
     probe p = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0};
@@ -60,10 +63,14 @@ int base_threads_available(int want, int *error)
     for (int k = 0; k < made; k++) pthread_join(t[k], NULL);
     free(t);
     int have = made + 1;  /* the calling thread is the team's first */
-    int seen = atomic_load_explicit(&known_available, memory_order_relaxed);
-    while (have > seen && !atomic_compare_exchange_weak(&known_available, &seen, have)) {
+    while (have > known && !atomic_compare_exchange_weak(&known_available, &known, have)) {
     }
-    return have;
+    if (*error) {
+        int none = 0;
+        atomic_compare_exchange_strong(&limit_error, &none, *error);
+    }
+    /* fewer than a count found before: libgomp's pool holds that many already */
+    return have > known ? have : known;
 }
 
 int base_team_size(int want)
