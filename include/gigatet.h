@@ -146,7 +146,12 @@ typedef struct gtet_mesh gtet_mesh;
 #define GTET_NO_TET UINT32_MAX
 
 typedef struct gtet_options {
-    int threads;        /* worker threads; 0 = all cores (default 0); at most 255 are used */
+    int threads;        /* worker threads; 0 = all cores (default 0); at most 255 are used,
+                           and at most as many as OpenMP gives a region started by the calling
+                           thread (OMP_THREAD_LIMIT; 1 inside a parallel region with nesting
+                           off) and the system lets the process start (ulimit -u): the tets
+                           are the same, gtet_stats.threads says how many ran.  dyn-var
+                           (OMP_DYNAMIC) is off during the call and restored after it */
     int verbosity;      /* 0 silent; 1: one line per phase (validate, sort, insert, finalize,
                            check) with its seconds; 2: also one per BRIO round (points,
                            inserted, passes, threads, alpha of the first pass, seconds);

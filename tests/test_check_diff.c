@@ -157,6 +157,16 @@ static void test_renumbered_reoriented_copy_is_identical_and_moved_point_is_not(
     TEST_REQUIRE(diff(&a, &b, &d) == GTET_OK, "%s", d.message);
     TEST_CHECK(d.kind == GTET_DIFF_POINTS && d.points_only_a == 1 && d.points_only_b == 1,
                "moved point: %s", d.message);
+    /* NOTES.md E181: a point moved by a tiny relative amount is named with the other mesh's
+     * nearest point, as if a writer had rounded it; one moved far is not */
+    TEST_CHECK(strstr(d.message, "nearest point (") &&
+                   strstr(d.message, "were the coordinates rounded when a mesh was written?"),
+               "moved by 1e-9: no rounding note: %s", d.message);
+    gtet_diff_report_free(&d);
+    b.v[3 * 5] += 0.5;
+    TEST_REQUIRE(diff(&a, &b, &d) == GTET_OK, "%s", d.message);
+    TEST_CHECK(d.kind == GTET_DIFF_POINTS && !strstr(d.message, "rounded"),
+               "moved by 0.5: %s", d.message);
     gtet_diff_report_free(&d);
     TEST_CHECK(gtet_diff(NULL, 3, a.t, a.nt, b.v, b.nv, b.t, b.nt, NULL, 0, &d) == GTET_ERR_ARGUMENT,
                "NULL vertices accepted");

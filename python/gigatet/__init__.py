@@ -20,10 +20,14 @@ What differs from scipy (Qhull):
 * ``find_simplex`` is exact (orientation tests with exact arithmetic); a point on a facet,
   edge or vertex shared by several tets gets the smallest of their indices.
 * Index arrays are ``intp``; result arrays are read-only (they are cached).
+* A Delaunay pickles (every protocol) and copies (copy.copy, copy.deepcopy) with its arrays
+  as they are, so ``simplices`` keeps its order in the copy; the points are not triangulated
+  again (a run with threads orders the same tets otherwise).
 """
 import functools
 import operator
 import os
+import warnings
 
 import numpy as np
 
@@ -47,6 +51,11 @@ def _as_points(points, what="points"):
     return np.ascontiguousarray(a, dtype=np.float64)
 
 
+def _is_cached(cls, name):
+    """Whether name is a functools.cached_property of cls (its value is computed, not state)."""
+    return isinstance(getattr(cls, name, None), functools.cached_property)
+
+
 def _readonly(a):
     a.flags.writeable = False
     return a
@@ -60,6 +69,8 @@ class Delaunay:
     converted once to C-contiguous float64, which is ``self.points``).
 
     threads: worker threads of the kernel (0 = all cores); the result does not depend on it.
+             At most 255, and at most as many as the system lets the process start (ulimit -u,
+             a cgroup's pids.max): fewer than asked for give a RuntimeWarning.
     check:   run the exact checker on the result (raises CheckError if it fails).
     memory_limit: the memory guard (gtet_options.memory_limit): None (default) estimates the
              run's peak before the work and raises MemoryError at once ("needs about X, Y
@@ -81,6 +92,10 @@ class Delaunay:
     convex_hull, vertex_neighbor_vertices, transform, equations, paraboloid_scale,
     paraboloid_shift, coplanar, npoints, nsimplex, ndim, min_bound, max_bound, furthest_site;
     methods find_simplex, plane_distance, lift_points.
+
+    Pickling and copy.copy / copy.deepcopy keep every attribute, the order of ``simplices``
+    included: the mesh's arrays and stats are saved, not recomputed (multiprocessing, joblib
+    and caches receive the same object); cached results are computed again from them.
 
     Beyond scipy: input_map, vertex_input_index, duplicates, check(), stats, write(),
     to_meshio(), and the zero-copy views of the kernel's own arrays: mesh_vertices (the
@@ -118,12 +133,46 @@ class Delaunay:
             limit = operator.index(memory_limit)
             if limit <= 0:
                 raise ValueError("memory_limit must be None, 'off' or a number of bytes > 0")
-        self._mesh = _gigatet.triangulate(pts, threads, bool(check), limit)
-        self.points = pts
-        self.npoints = pts.shape[0]
-        self.nsimplex = self._mesh.ntets
+        self._adopt(_gigatet.triangulate(pts, threads, bool(check), limit))
+        # the kernel starts only the threads the system lets it (ulimit -u, pids.max) and
+        # OpenMP gives (NOTES.md E183, E184): libgomp would end the interpreter otherwise;
+        # fewer than asked for is said
+        asked = min(threads, 255)
+        if asked > 1 and self._mesh.threads < asked:
+            warnings.warn("gigatet: ran on %d of the %d threads asked for (no more could be "
+                          "started or OpenMP would give no more: ulimit -u, memory for their "
+                          "stacks, OMP_THREAD_LIMIT, a call inside a parallel region); the "
+                          "triangulation is the same" % (self._mesh.threads, asked),
+                          RuntimeWarning, stacklevel=2)
+
+    # the attributes set from the mesh; every other array is computed from it on first use
+    _FROM_MESH = ("_mesh", "points", "npoints", "nsimplex", "mesh_vertices", "mesh_tets",
+                  "mesh_neighbors", "mesh_input_map")
+
+    def _adopt(self, mesh):
+        self._mesh = mesh
+        self.points = mesh.points
+        self.npoints = self.points.shape[0]
+        self.nsimplex = mesh.ntets
         (self.mesh_vertices, self.mesh_tets, self.mesh_neighbors,
-         self.mesh_input_map) = self._mesh.views()
+         self.mesh_input_map) = mesh.views()
+
+    # ---- pickle, copy.copy, copy.deepcopy (NOTES.md E180) ------------------------------------
+    # The state is the mesh (which pickles its points, vertices, tets, neighbours, input map and
+    # stats as they are: a new run with threads could order the tets otherwise) and any
+    # attribute a user set; the cached arrays are left out and computed again from the mesh on
+    # first use, which gives them bit for bit (they are functions of the mesh's arrays).
+
+    def __getstate__(self):
+        state = {k: v for k, v in self.__dict__.items()
+                 if k not in self._FROM_MESH and not _is_cached(type(self), k)}
+        state["_mesh"] = self._mesh
+        return state
+
+    def __setstate__(self, state):
+        state = dict(state)
+        self._adopt(state.pop("_mesh"))
+        self.__dict__.update(state)
 
     def __repr__(self):
         return "<gigatet.Delaunay: %d points, %d vertices, %d tets>" % (

@@ -13,6 +13,9 @@
  *       input-point numbering (a vertex is named by the input index of its first occurrence).
  *   Mesh.find_simplex(xi): exact point location (gtet_orient3d) by a visibility walk.
  *   Mesh.check(flags), stats(), write(path).
+ *   Mesh.__reduce__() / _restore(...): pickling and copying; the arrays themselves are saved
+ *       and a Mesh is made from them by gtet_mesh_from_arrays (src/mesh/mesh.h), so the copy
+ *       has the tets in the same order (a run with threads orders them as it goes).
  *
  * Errors become exceptions: ValueError (NaN/Inf, with the point's index), DegenerateInputError
  * (a ValueError, with .dimension), MemoryError, CheckError (a RuntimeError, with .report),
@@ -30,6 +33,7 @@
 
 #include "gigatet.h"
 #include "io/io.h"
+#include "mesh/mesh.h"
 
 static PyObject *DegenerateInputError;  /* gigatet.DegenerateInputError(ValueError) */
 static PyObject *CheckError;            /* gigatet.CheckError(RuntimeError) */
@@ -44,6 +48,8 @@ typedef struct {
     double seconds;         /* wall time of gtet_triangulate */
     int threads_asked;
     int threads;            /* threads the kernel used: the array conversions use as many */
+    PyObject *saved_stats;  /* a restored (unpickled) mesh: stats() of the mesh pickled, which
+                               gtet_mesh_from_arrays cannot give back; NULL after a run */
 } MeshObject;
 
 static PyTypeObject MeshType;
@@ -218,6 +224,7 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw)
     gtet_stats st;
     gtet_mesh_stats(mesh, &st);
     m->threads = st.threads > 0 ? st.threads : 1;
+    m->saved_stats = NULL;
     if ((size_t)m->nv != n) {
         m->first = first_occurrence(mesh, n, (size_t)m->nv);
         if (!m->first) {
@@ -233,6 +240,7 @@ static void mesh_dealloc(MeshObject *m)
     gtet_mesh_free(&m->mesh);
     free(m->first);
     Py_XDECREF(m->points);
+    Py_XDECREF(m->saved_stats);
     PyObject_Free(m);
 }
 
@@ -762,6 +770,12 @@ static PyObject *pred_dict(const gtet_pred_counters *p)
 static PyObject *mesh_stats(MeshObject *m, PyObject *noargs)
 {
     (void)noargs;
+    if (m->saved_stats) {  /* a restored mesh: a copy of the pickled mesh's figures */
+        PyObject *copy = PyImport_ImportModule("copy");
+        PyObject *r = copy ? PyObject_CallMethod(copy, "deepcopy", "O", m->saved_stats) : NULL;
+        Py_XDECREF(copy);
+        return r;
+    }
     gtet_stats st;
     gtet_mesh_stats(m->mesh, &st);
     const size_t nt = (size_t)m->nt;
@@ -832,6 +846,129 @@ static PyObject *mesh_write(MeshObject *m, PyObject *arg)
     }
 }
 
+/* ---------------------------------------------------------------------------------------- */
+/* Pickling and copying                                                                     */
+/* ---------------------------------------------------------------------------------------- */
+
+/* The layout of the tuple Mesh.__reduce__ hands to _restore; a pickle of another layout is
+ * refused by name rather than misread. */
+#define PICKLE_FORMAT 1
+
+static PyObject *restore_fn;  /* gigatet._gigatet._restore, looked up once at import */
+
+/* Mesh.__reduce__: (_restore, (format, points, vertices, tets, neighbors, input_map, stats,
+ * threads_asked, threads)).  The arrays themselves are saved, so the copy has the tets in
+ * their order here: a new run with threads may number them otherwise (ARCHITECTURE.md, the
+ * slot order; NOTES.md E180).  The four arrays are the zero-copy views, which pickle as their
+ * data (out of band with protocol 5) and deep-copy as copies. */
+static PyObject *mesh_reduce(MeshObject *m, PyObject *noargs)
+{
+    PyObject *views = mesh_views(m, noargs);
+    if (!views) return NULL;
+    PyObject *stats = mesh_stats(m, noargs);
+    if (!stats) {
+        Py_DECREF(views);
+        return NULL;
+    }
+    PyObject *r = Py_BuildValue("(O(iOOOOONii))", restore_fn, PICKLE_FORMAT, (PyObject *)m->points,
+                                PyTuple_GET_ITEM(views, 0), PyTuple_GET_ITEM(views, 1),
+                                PyTuple_GET_ITEM(views, 2), PyTuple_GET_ITEM(views, 3), stats,
+                                m->threads_asked, m->threads);
+    Py_DECREF(views);
+    return r;
+}
+
+/* obj as a C-contiguous, aligned, native array of `type` with `nd` dimensions, the last of
+ * `last` (when > 0) entries, or NULL with a ValueError naming `what`.  No casts: the pickle
+ * saved exactly these types. */
+static PyArrayObject *saved_array(PyObject *obj, int type, int nd, npy_intp last, const char *what)
+{
+    PyArrayObject *a = (PyArrayObject *)PyArray_FROM_OTF(obj, type, NPY_ARRAY_IN_ARRAY);
+    if (!a) return NULL;
+    if (PyArray_NDIM(a) != nd || (last > 0 && PyArray_DIM(a, nd - 1) != last)) {
+        PyErr_Format(PyExc_ValueError, "gigatet: a saved mesh's %s has shape of %d dimensions, "
+                     "not the one pickled", what, PyArray_NDIM(a));
+        Py_DECREF(a);
+        return NULL;
+    }
+    return a;
+}
+
+/* _restore(format, points, vertices, tets, neighbors, input_map, stats, threads_asked,
+ * threads) -> Mesh: Mesh.__reduce__'s inverse, through gtet_mesh_from_arrays (which copies the
+ * arrays and refuses any that would take an accessor out of bounds). */
+static PyObject *py_restore(PyObject *self, PyObject *args)
+{
+    (void)self;
+    int format, threads_asked, threads;
+    PyObject *o[5], *stats;
+    if (!PyArg_ParseTuple(args, "iOOOOOO!ii", &format, &o[0], &o[1], &o[2], &o[3], &o[4],
+                          &PyDict_Type, &stats, &threads_asked, &threads))
+        return NULL;
+    if (format != PICKLE_FORMAT) {
+        PyErr_Format(PyExc_ValueError, "gigatet: a mesh pickled in format %d; this version "
+                     "reads format %d", format, PICKLE_FORMAT);
+        return NULL;
+    }
+    PyArrayObject *pts = saved_array(o[0], NPY_DOUBLE, 2, 3, "points");
+    PyArrayObject *v = pts ? saved_array(o[1], NPY_DOUBLE, 2, 3, "vertices") : NULL;
+    PyArrayObject *t = v ? saved_array(o[2], NPY_UINT32, 2, 4, "tets") : NULL;
+    PyArrayObject *nb = t ? saved_array(o[3], NPY_UINT32, 2, 4, "neighbors") : NULL;
+    PyArrayObject *map = nb ? saved_array(o[4], NPY_UINT32, 1, 0, "input map") : NULL;
+    MeshObject *m = NULL;
+    if (!map) goto done;
+    const size_t n = (size_t)PyArray_DIM(pts, 0), nt = (size_t)PyArray_DIM(t, 0);
+    if ((size_t)PyArray_DIM(map, 0) != n || (size_t)PyArray_DIM(nb, 0) != nt) {
+        PyErr_SetString(PyExc_ValueError, "gigatet: a saved mesh's arrays disagree in length");
+        goto done;
+    }
+    gtet_mesh *mesh = NULL;
+    char msg[160] = "";
+    gtet_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = gtet_mesh_from_arrays(PyArray_DATA(v), (size_t)PyArray_DIM(v, 0), PyArray_DATA(map), n,
+                              PyArray_DATA(t), PyArray_DATA(nb), nt, &mesh, msg, sizeof msg);
+    Py_END_ALLOW_THREADS
+    if (s == GTET_ERR_OUT_OF_MEMORY) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    if (s != GTET_OK) {
+        PyErr_Format(PyExc_ValueError, "gigatet: not a saved gigatet mesh: %s", msg);
+        goto done;
+    }
+    m = PyObject_New(MeshObject, &MeshType);
+    if (!m) {
+        gtet_mesh_free(&mesh);
+        goto done;
+    }
+    m->mesh = mesh;
+    Py_INCREF(pts);
+    m->points = pts;
+    m->n = (npy_intp)n;
+    m->nv = PyArray_DIM(v, 0);
+    m->nt = (npy_intp)nt;
+    m->first = NULL;
+    PyObject *secs = PyDict_GetItemString(stats, "seconds");  /* borrowed */
+    PyObject *kernel = secs && PyDict_Check(secs) ? PyDict_GetItemString(secs, "kernel") : NULL;
+    m->seconds = kernel && PyFloat_Check(kernel) ? PyFloat_AS_DOUBLE(kernel) : 0.0;
+    m->threads_asked = threads_asked;
+    m->threads = threads > 0 && threads <= 255 ? threads : 1;
+    Py_INCREF(stats);
+    m->saved_stats = stats;
+    if ((size_t)m->nv != n && !(m->first = first_occurrence(mesh, n, (size_t)m->nv))) {
+        Py_CLEAR(m);  /* the map was checked to be in first-occurrence order: only memory */
+        PyErr_NoMemory();
+    }
+done:
+    Py_XDECREF(pts);
+    Py_XDECREF(v);
+    Py_XDECREF(t);
+    Py_XDECREF(nb);
+    Py_XDECREF(map);
+    return (PyObject *)m;
+}
+
 static PyObject *mesh_get_int(MeshObject *m, void *which)
 {
     switch ((int)(intptr_t)which) {
@@ -839,6 +976,7 @@ static PyObject *mesh_get_int(MeshObject *m, void *which)
     case 1: return PyLong_FromSsize_t(m->nv);
     case 2: return PyLong_FromSsize_t(m->nt);
     case 3: return PyLong_FromSize_t(gtet_mesh_num_hull_facets(m->mesh));
+    case 5: return PyLong_FromLong(m->threads);
     default: return PyLong_FromSize_t(gtet_mesh_num_duplicates(m->mesh));
     }
 }
@@ -856,6 +994,8 @@ static PyGetSetDef mesh_getset[] = {
     {"ntets", (getter)mesh_get_int, NULL, "tetrahedra", (void *)2},
     {"nhull", (getter)mesh_get_int, NULL, "hull facets", (void *)3},
     {"nduplicates", (getter)mesh_get_int, NULL, "duplicate input points", (void *)4},
+    {"threads", (getter)mesh_get_int, NULL,
+     "threads the run used (fewer than asked when the system would not start them)", (void *)5},
     {"points", (getter)mesh_get_points, NULL, "the float64 points triangulated", NULL},
     {NULL, NULL, NULL, NULL, NULL},
 };
@@ -874,6 +1014,8 @@ static PyMethodDef mesh_methods[] = {
     {"check", (PyCFunction)mesh_check, METH_VARARGS, NULL},
     {"stats", (PyCFunction)mesh_stats, METH_NOARGS, NULL},
     {"write", (PyCFunction)mesh_write, METH_O, NULL},
+    {"__reduce__", (PyCFunction)mesh_reduce, METH_NOARGS,
+     "pickle and copy support: the arrays themselves are saved, never recomputed"},
     {NULL, NULL, 0, NULL},
 };
 
@@ -936,6 +1078,7 @@ static PyMethodDef module_methods[] = {
      "triangulate(points, threads=0, check=False) -> Mesh; points: (n, 3) C-contiguous float64"},
     {"orient3d", py_orient3d, METH_VARARGS, "exact sign of orient3d(a, b, c, d)"},
     {"insphere", py_insphere, METH_VARARGS, "exact sign of insphere(a, b, c, d, e)"},
+    {"_restore", py_restore, METH_VARARGS, "a Mesh from Mesh.__reduce__'s tuple (unpickling)"},
     {NULL, NULL, 0, NULL},
 };
 
@@ -960,7 +1103,8 @@ PyMODINIT_FUNC PyInit__gigatet(void)
         "gigatet.CheckError",
         "The exact checker found a violated invariant: .report holds the checker's report.",
         PyExc_RuntimeError, NULL);
-    if (!DegenerateInputError || !CheckError) goto fail;
+    restore_fn = PyObject_GetAttrString(mod, "_restore");
+    if (!DegenerateInputError || !CheckError || !restore_fn) goto fail;
     Py_INCREF(&MeshType);
     if (PyModule_AddObject(mod, "Mesh", (PyObject *)&MeshType) < 0) {
         Py_DECREF(&MeshType);

@@ -102,6 +102,17 @@ static gtet_status prepare(run *r, gtet_mesh **out)
      * the memory guard counts no more (NOTES.md E159c: threads = 100000 was refused as needing
      * 97.7 GiB for 100 points, 5000 spawned 5000 threads in each OpenMP stage) */
     if (r->threads > 255) r->threads = 255;
+    r->threads = base_team_size(r->threads);  /* what OpenMP will give (NOTES.md E184) */
+    /* as many threads as the system lets the process start now: libgomp ends the process when
+     * it cannot start a region's threads (ulimit -u, pids.max), and the tets do not depend on
+     * the count (NOTES.md E183); stats.threads says how many ran */
+    if (r->threads > 1) {
+        int terr = 0, have = base_threads_available(r->threads, &terr);
+        if (have < r->threads && verbose(r, 1))
+            say(r, "threads: %d of the %d asked for can run (%s)", have, r->threads,
+                strerror(terr));
+        r->threads = have;
+    }
     /* refuse a run that cannot fit before any big allocation (memory.c) */
     gtet_status s = mem_guard(r->n, r->threads, &r->opts, r->err);
     if (s != GTET_OK) return s;
@@ -235,9 +246,17 @@ static gtet_status triangulate(const double *xyz, size_t n, const gtet_options *
         r.err->index = SIZE_MAX;
         r.err->dimension = -1;
     }
+    /* with dyn-var on (OMP_DYNAMIC, omp_set_dynamic) OpenMP may give a region fewer threads
+     * than num_threads asks, and the stages split their work by thread number: a validate
+     * region of 1 thread for 2 asked left half the points unread and crashed (NOTES.md
+     * E184).  Off for the call (this thread's setting: the regions it starts inherit it),
+     * then as the caller had it. */
+    const int dynamic = omp_get_dynamic();
+    if (dynamic) omp_set_dynamic(0);
     gtet_status s = prepare(&r, out);
     if (s == GTET_OK) s = build(&r);
     if (s == GTET_OK) s = finish(&r);
+    if (dynamic) omp_set_dynamic(1);
     /* release: one path for success and every failure */
     free(r.keys);
     free(r.order);

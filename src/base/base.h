@@ -70,4 +70,21 @@ void *base_alloc_big(size_t bytes);
  * the pages are mapped, -1 when the system cannot do it (nothing changed). */
 int base_populate(void *p, size_t bytes);
 
+/* How many threads, the calling one included, of `want` (>= 1) this process can run at once
+ * now: it starts want - 1 threads that wait until all are started, then ends and joins them
+ * (threads.c).  want when all started; else 1 + those started, with pthread_create's error
+ * number in *error (0 otherwise).  Once per process: a count found before is taken as it is
+ * (libgomp keeps the threads it started; a probe would count them twice), and once a probe has
+ * met the limit every larger request gets the largest count found, with that error.  For the
+ * runs' thread counts: libgomp ends the process when it cannot start a parallel region's
+ * threads (NOTES.md E183). */
+int base_threads_available(int want, int *error);
+
+/* The threads a parallel region with num_threads(want) started by the calling thread gets,
+ * dyn-var off (the caller turns it off: with it on, OpenMP may give fewer as it likes): 1 when
+ * the region would be inactive (nested inside a parallel region beyond max-active-levels),
+ * at most OMP_THREAD_LIMIT at top level, and 1 nested under a thread limit.  The stages split
+ * their work by thread number and need every thread they ask for (NOTES.md E184). */
+int base_team_size(int want);
+
 #endif

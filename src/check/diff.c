@@ -82,8 +82,9 @@ static int ids_in_range(const side *s)
     return 1;
 }
 
-/* Common ids for both vertex sets; counts of distinct points in one mesh only. */
-static gtet_status common_ids(side *a, side *b, gtet_diff_report *r)
+/* Common ids for both vertex sets; counts of distinct points in one mesh only, the first of
+ * them in r->first_point_only and its mesh in *first_side (0 = A, 1 = B). */
+static gtet_status common_ids(side *a, side *b, gtet_diff_report *r, int *first_side)
 {
     size_t n = a->nv + b->nv;
     pkey *k = malloc((n ? n : 1) * sizeof *k);
@@ -101,7 +102,10 @@ static gtet_status common_ids(side *a, side *b, gtet_diff_report *r)
             e++;
         }
         if (in[0] != in[1]) {
-            if (!r->points_only_a && !r->points_only_b) memcpy(r->first_point_only, k[g].x, 24);
+            if (!r->points_only_a && !r->points_only_b) {
+                memcpy(r->first_point_only, k[g].x, 24);
+                *first_side = in[1];
+            }
             r->points_only_a += in[0];
             r->points_only_b += in[1];
         }
@@ -109,6 +113,35 @@ static gtet_status common_ids(side *a, side *b, gtet_diff_report *r)
     }
     free(k);
     return GTET_OK;
+}
+
+/* The point of the other mesh nearest (max norm) to the first point in one mesh only, when
+ * it lies within 1e-5 of it relative to its largest coordinate: the meshes' writers most
+ * likely rounded the coordinates differently (meshio's ASCII .vtu keeps 12 digits, Gmsh's
+ * ASCII MSH %.16g), and the verdict says so, as the checker's message does for an input point
+ * (NOTES.md E157, E181).  A linear scan, for this verdict only. */
+typedef struct near_point {
+    int side;      /* the mesh of r->first_point_only: 0 = A, 1 = B */
+    int found;     /* q, a point of the other mesh, is within the bound */
+    double q[3];
+    double rel;    /* its distance relative to the point's largest coordinate */
+} near_point;
+
+static void nearest_other(const side *other, const double p[3], near_point *np)
+{
+    size_t best = SIZE_MAX;
+    double bd = INFINITY;
+    for (size_t i = 0; i < other->nv; i++) {
+        const double *x = other->v + 3 * i;
+        double d = fmax(fabs(x[0] - p[0]), fmax(fabs(x[1] - p[1]), fabs(x[2] - p[2])));
+        if (d < bd) bd = d, best = i;
+    }
+    double scale = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
+    np->found = best != SIZE_MAX && bd <= 1e-5 * scale;
+    if (np->found) {
+        memcpy(np->q, other->v + 3 * best, sizeof np->q);
+        np->rel = bd / scale;
+    }
 }
 
 static void sort4(uint32_t v[4])
@@ -375,7 +408,7 @@ static gtet_status check_side(side *s, const double *xyz, size_t n)
                             &s->cell, &s->cell_hull);
 }
 
-static void verdict(gtet_diff_report *r)
+static void verdict(gtet_diff_report *r, const near_point *np)
 {
     char *m = r->message;
     size_t z = sizeof r->message;
@@ -384,12 +417,19 @@ static void verdict(gtet_diff_report *r)
         snprintf(m, z, "identical: the same %llu tets over the same points",
                  (unsigned long long)r->common);
         break;
-    case GTET_DIFF_POINTS:
-        snprintf(m, z, "different point sets: %llu points only in A, %llu only in B (one is "
-                 "(%.17g, %.17g, %.17g))", (unsigned long long)r->points_only_a,
-                 (unsigned long long)r->points_only_b, r->first_point_only[0],
-                 r->first_point_only[1], r->first_point_only[2]);
+    case GTET_DIFF_POINTS: {
+        const char *mine = np->side ? "B" : "A", *other = np->side ? "A" : "B";
+        int at = snprintf(m, z, "different point sets: %llu points only in A, %llu only in B (one "
+                          "is %s's (%.17g, %.17g, %.17g))", (unsigned long long)r->points_only_a,
+                          (unsigned long long)r->points_only_b, mine, r->first_point_only[0],
+                          r->first_point_only[1], r->first_point_only[2]);
+        if (np->found && at > 0 && (size_t)at < z)
+            snprintf(m + at, z - (size_t)at, "; %s's nearest point (%.17g, %.17g, %.17g) is off by "
+                     "a relative %.1e: were the coordinates rounded when a mesh was written? (17 "
+                     "significant digits keep them exact)", other, np->q[0], np->q[1], np->q[2],
+                     np->rel);
         break;
+    }
     case GTET_DIFF_TIES:
         snprintf(m, z, "both Delaunay, different tie-breaking: %llu tets only in A, %llu only in "
                  "B, in %llu co-spherical groups", (unsigned long long)r->only_a,
@@ -415,7 +455,8 @@ void gtet_diff_report_free(gtet_diff_report *r)
     r->num_groups = 0;
 }
 
-static gtet_status diff_run(side *a, side *b, const double *xyz, size_t n, gtet_diff_report *r)
+static gtet_status diff_run(side *a, side *b, const double *xyz, size_t n, gtet_diff_report *r,
+                            near_point *np)
 {
     gtet_status st = GTET_OK;
     int valid_ids = ids_in_range(a) && ids_in_range(b);
@@ -428,9 +469,10 @@ static gtet_status diff_run(side *a, side *b, const double *xyz, size_t n, gtet_
         b->only = calloc(b->nt ? b->nt : 1, 1);
         if (!a->gid || !b->gid || !a->keys || !b->keys || !a->only || !b->only)
             return GTET_ERR_OUT_OF_MEMORY;
-        if ((st = common_ids(a, b, r)) != GTET_OK) return st;
+        if ((st = common_ids(a, b, r, &np->side)) != GTET_OK) return st;
         if (r->points_only_a || r->points_only_b) {
             r->kind = GTET_DIFF_POINTS;
+            nearest_other(np->side ? a : b, r->first_point_only, np);
             return GTET_OK;
         }
         tet_keys(a);
@@ -472,7 +514,8 @@ gtet_status gtet_diff(const double *va, size_t nva, const uint32_t *ta, size_t n
     }
     side a = {va, nva, ta, nta, NULL, NULL, NULL, NULL, NULL, &report->check_a};
     side b = {vb, nvb, tb, ntb, NULL, NULL, NULL, NULL, NULL, &report->check_b};
-    gtet_status st = diff_run(&a, &b, xyz, n, report);
+    near_point np = {0, 0, {0, 0, 0}, 0};
+    gtet_status st = diff_run(&a, &b, xyz, n, report, &np);
     side *s[2] = {&a, &b};
     for (int i = 0; i < 2; i++) {
         free(s[i]->gid);
@@ -486,6 +529,6 @@ gtet_status gtet_diff(const double *va, size_t nva, const uint32_t *ta, size_t n
         snprintf(report->message, sizeof report->message, "%s", gtet_status_str(st));
         return st;
     }
-    verdict(report);
+    verdict(report, &np);
     return GTET_OK;
 }

@@ -2,8 +2,9 @@
  *
  * Exit codes, the contract scripts rely on:
  *   0 ok, 1 usage, 2 bad input file or data (also: the output cannot be written),
- *   3 degenerate input (dimension < 3), 4 out of memory, 5 check failed (also: an internal
- *   error of the kernel, i.e. a broken invariant).
+ *   3 degenerate input (dimension < 3), 4 out of memory (also: the OpenMP runtime ended the
+ *   run, as when it cannot create threads: main.c), 5 check failed (also: an internal error of
+ *   the kernel, i.e. a broken invariant).
  */
 #ifndef GTET_CLI_H
 #define GTET_CLI_H
@@ -103,6 +104,13 @@ int cli_overwrites_input(const char *input, const char *out);
 
 /* A usage error ("PATH: CMD reads ... meshes") unless path names a readable mesh format. */
 int cli_need_mesh_format(const char *cmd, const char *path);
+
+/* The notes a failed check of mesh file `path` (read into m) gets after its message: the
+ * file's cells that were skipped, and, when `ids` and the violation names tets or vertices,
+ * how the checker's 0-based numbers map to the file's ids.  `owner` names the file in them
+ * ("the file" for check, "A" or "B" for diff).  Returns buf ("" when there is nothing to say). */
+const char *cli_mesh_note(const char *path, const char *owner, const io_mesh *m,
+                          const gtet_check_report *r, int ids, char *buf, size_t size);
 
 extern const cli_command cli_cmd_triangulate, cli_cmd_check, cli_cmd_diff, cli_cmd_generate;
 

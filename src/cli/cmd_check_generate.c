@@ -87,26 +87,27 @@ static void check_json(const check_args *a, const char *status, const io_mesh *m
 /* After a failed check of a file with cells that are not linear tetrahedra (quadratic
  * tets, hexahedra, ...: read_msh.c and read_vtu.c skip them), say so: "the mesh has no
  * tets" or a hole in the hull is otherwise a riddle (NOTES.md E159); and how the message's
- * tet and vertex numbers map to the file's (below). */
-static const char *skipped_note(const char *path, const io_mesh *m, const gtet_check_report *r,
-                                char *buf, size_t size)
+ * tet and vertex numbers map to the file's (below).  diff's verdicts get the same notes
+ * (NOTES.md E182). */
+const char *cli_mesh_note(const char *path, const char *owner, const io_mesh *m,
+                          const gtet_check_report *r, int ids, char *buf, size_t size)
 {
     buf[0] = '\0';
     if (m->skipped_cells)
-        snprintf(buf, size, " (%zu cell%s of the file %s not linear tetrahedra and %s skipped: "
+        snprintf(buf, size, " (%zu cell%s of %s %s not linear tetrahedra and %s skipped: "
                  "points, lines, triangles, quadratic tets, hexahedra, ...)", m->skipped_cells,
-                 m->skipped_cells == 1 ? "" : "s", m->skipped_cells == 1 ? "is" : "are",
+                 m->skipped_cells == 1 ? "" : "s", owner, m->skipped_cells == 1 ? "is" : "are",
                  m->skipped_cells == 1 ? "was" : "were");
     /* The numbers in the message are 0-based positions in the file (the checker sees arrays):
      * a 1-based .ele (TetGen's and gigatet's own) or a .msh's node tags read otherwise, so
      * say how to find them (NOTES.md E159d: 'tet 0 (26 35 24 13)' for the file's tet 1 with
      * nodes 27 36 25 14). */
     io_format f = io_format_of(path);
-    int ids = r->violation.tet[0] != GTET_CHECK_NONE || r->violation.nvertices > 0;
+    ids = ids && (r->violation.tet[0] != GTET_CHECK_NONE || r->violation.nvertices > 0);
     if (ids && (f == IO_FMT_ELE || f == IO_FMT_MSH || m->skipped_cells)) {
         size_t at = strlen(buf);
         snprintf(buf + at, size - at, " [tets and vertices are numbered from 0 in the order of "
-                 "the file%s, not by its own ids%s]", f == IO_FMT_ELE ? "'s .ele and .node" : "",
+                 "%s%s, not by its own ids%s]", owner, f == IO_FMT_ELE ? "'s .ele and .node" : "",
                  f == IO_FMT_ELE   ? ": add 1 for a 1-based file"
                  : f == IO_FMT_MSH ? " (node tags, element tags)"
                                    : " (only its linear tetrahedra count)");
@@ -153,7 +154,7 @@ static int cli_check(int argc, char **argv)
     if (!ok && (gs == GTET_OK || gs == GTET_ERR_CHECK_FAILED))
         cli_error("%s: check failed (%s): %s%s", a.mesh, mode,
                   rep.message[0] ? rep.message : "an invariant does not hold",
-                  skipped_note(a.mesh, &m, &rep, note, sizeof note));
+                  cli_mesh_note(a.mesh, "the file", &m, &rep, 1, note, sizeof note));
     else if (!ok)
         cli_error("%s: %s%s%s", a.mesh, gtet_status_str(gs), rep.message[0] ? ": " : "",
                   rep.message);

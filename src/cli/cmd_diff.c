@@ -53,13 +53,24 @@ static uint64_t listed(const diff_args *d, const gtet_diff_report *r)
     return d->groups == 0 || d->groups > r->num_groups ? r->num_groups : d->groups;
 }
 
-static void diff_text(const diff_args *d, const gtet_diff_report *r)
+static void diff_text(const diff_args *d, const gtet_diff_report *r, const io_mesh *ma,
+                      const io_mesh *mb)
 {
     printf("diff=%s tets_a=%llu tets_b=%llu common=%llu only_a=%llu only_b=%llu groups=%llu\n",
            kind_name[r->kind], (unsigned long long)r->tets_a, (unsigned long long)r->tets_b,
            (unsigned long long)r->common, (unsigned long long)r->only_a,
            (unsigned long long)r->only_b, (unsigned long long)r->num_groups);
-    printf("%s\n", r->message);
+    /* check's notes (NOTES.md E159, E159d; here E182): skipped cells of either file, and for
+     * the file whose violation the message quotes (A's when neither is Delaunay) how its tet
+     * and vertex numbers map to the file's ids */
+    char note[2][384] = {"", ""};
+    if (r->kind != GTET_DIFF_IDENTICAL) {
+        int quoted_b = r->kind == GTET_DIFF_B_NOT_DELAUNAY;
+        int quoted_a = r->kind == GTET_DIFF_A_NOT_DELAUNAY || r->kind == GTET_DIFF_NEITHER_DELAUNAY;
+        cli_mesh_note(d->a, "A", ma, &r->check_a, quoted_a, note[0], sizeof note[0]);
+        cli_mesh_note(d->b, "B", mb, &r->check_b, quoted_b, note[1], sizeof note[1]);
+    }
+    printf("%s%s%s\n", r->message, note[0], note[1]);
     uint64_t k = listed(d, r);
     for (uint64_t i = 0; i < k; i++) {
         const gtet_diff_group *g = &r->groups[i];
@@ -149,7 +160,7 @@ static int cli_diff(int argc, char **argv)
         rc = cli_exit_of_gtet(gs);
     } else {
         if (d.json) diff_json(&d, &r);
-        else if (!d.quiet) diff_text(&d, &r);
+        else if (!d.quiet) diff_text(&d, &r, &ma, &mb);
         rc = r.kind == GTET_DIFF_IDENTICAL ? CLI_OK : CLI_CHECK_FAILED;
     }
     gtet_diff_report_free(&r);

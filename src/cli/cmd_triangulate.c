@@ -353,7 +353,19 @@ static int tri_kernel(const tri_args *a, double **xyz, size_t n, gtet_mesh **mes
     gtet_status gs = gtet_memory_guard(n, &with_check);
     if (gs == GTET_OK) gs = gtet_triangulate(*xyz, n, &opts, mesh);
     if (bar && ps.last >= 0) fputs("\r\033[K", stderr);
-    if (gs == GTET_OK) return CLI_OK;
+    if (gs == GTET_OK) {
+        /* the library runs on the threads the system lets it start and OpenMP gives
+         * (NOTES.md E183, E184): say so when that is fewer than -t asked for */
+        gtet_stats st;
+        gtet_mesh_stats(*mesh, &st);
+        const int asked = a->threads > 255 ? 255 : (int)a->threads;
+        if (!a->quiet && asked > 1 && st.threads < asked)
+            cli_error("warning: ran on %d of the %d threads asked for (no more could be "
+                      "started or OpenMP would give no more: ulimit -u, memory for their "
+                      "stacks, OMP_THREAD_LIMIT, a call inside a parallel region); the mesh is "
+                      "the same", st.threads, asked);
+        return CLI_OK;
+    }
     const char *msg = gerr.message[0] ? gerr.message : gtet_status_str(gs);
     if (gs == GTET_ERR_NONFINITE && gerr.index != SIZE_MAX)
         cli_error("%s: point %zu: %s", a->input, gerr.index, msg);

@@ -44,4 +44,19 @@ size_t gtet_mesh_take_arrays(gtet_mesh *m, uint32_t **tets, uint32_t **neighbors
 gtet_status gtet_triangulate_wide(const double *xyz, size_t n, const gtet_options *opts,
                                   gtet_mesh **out);
 
+/* Internal (not in gigatet.h): a mesh made from the arrays of one gtet_triangulate's result
+ * (gtet_mesh_vertices, _input_map, _tets, _neighbors and their counts), copied: the Python
+ * module's unpickling (python/gigatet/_gigatet.c, NOTES.md E180), which must give back the
+ * tets in the order they were saved in -- a new run with threads may order them otherwise.
+ * The arrays are checked so far as every accessor and gtet_check stay within them: every
+ * coordinate finite, nv <= n, the input map in order of first occurrence (vertex k is new at
+ * the first i with input_map[i] == k, all nv of them), tet vertices < nv, neighbours < nt or
+ * GTET_NO_TET (their number is the hull facet count); nt and nv below GTET_NO_TET.  Nothing
+ * geometric is checked (gtet_check does that).  The statistics are zero, no degeneracies are
+ * recorded.  GTET_ERR_ARGUMENT with a sentence in msg when a check fails, out of memory, or
+ * GTET_OK with *out set. */
+gtet_status gtet_mesh_from_arrays(const double *vertices, size_t nv, const uint32_t *input_map,
+                                  size_t n, const uint32_t *tets, const uint32_t *neighbors,
+                                  size_t nt, gtet_mesh **out, char *msg, size_t msg_size);
+
 #endif

@@ -51,4 +51,27 @@ cp m.ele far.ele
 awk 'NR == 2 { $2 = $2 + 50 } { print }' m.node > far.node
 expect 5 "is not a vertex of the mesh" -- "$G" check far.ele --points in.bin
 grep -q "rounded" "$T/err" && fail "far: a vertex moved by 50 called rounding: $(cat "$T/err")"
+# NOTES.md E181, E182: diff's verdicts get the same notes (on stdout, in the verdict's line):
+# rounded coordinates named with the nearest point of the other mesh and its relative offset,
+# a vertex far from every other point not called rounding; the numbering note for the mesh
+# whose violation is quoted (A or B), none for a .vtu (0-based already); skipped cells
+expect 5 "" -- "$G" diff m.ele rounded.ele
+grep -q "^different point sets: .*(one is B's (.*; A's nearest point (.*) is off by a relative [0-9.]*e-1[0-9]: were the coordinates rounded when a mesh was written?" "$T/out" ||
+    fail "diff rounded: no rounding note: $(cat "$T/out")"
+expect 5 "" -- "$G" diff far.ele m.ele
+grep -q "^diff=points" "$T/out" || fail "diff far: not diff=points: $(cat "$T/out")"
+grep -q "rounded" "$T/out" && fail "diff far: a vertex moved by 50 called rounding: $(cat "$T/out")"
+expect 5 "" -- "$G" diff m.ele rewired.ele
+grep -qF "B is not Delaunay: tets 0 and " "$T/out" && grep -qF "[tets and vertices are numbered from 0 in the order of B's .ele and .node, not by its own ids: add 1 for a 1-based file]" "$T/out" ||
+    fail "diff rewired: no numbering note for B: $(cat "$T/out")"
+grep -q "skipped" "$T/out" && fail "diff rewired: a note on skipped cells where there are none: $(cat "$T/out")"
+expect 0 "" -- "$G" triangulate in.bin -o m.msh
+expect 5 "" -- "$G" diff rewired.ele m.msh
+grep -qF "A is not Delaunay: tets 0 and " "$T/out" && grep -qF "in the order of A's .ele and .node" "$T/out" ||
+    fail "diff rewired as A: no numbering note for A: $(cat "$T/out")"
+grep -qF "order of B" "$T/out" && fail "diff rewired as A: a note for B: $(cat "$T/out")"
+"$G" diff m.ele rewired.ele --json | grep -qF "numbered from 0" && fail "diff --json: the note is for the text verdict"
+expect 5 "" -- "$G" diff m.vtu quad.vtu
+grep -qF "(1 cell of B is not linear tetrahedra and was skipped" "$T/out" ||
+    fail "diff quad: no skipped-cells note: $(cat "$T/out")"
 finish

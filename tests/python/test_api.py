@@ -172,6 +172,46 @@ def test_threads_and_determinism():
         assert np.array_equal(np.sort(np.sort(a.simplices, 1), 0), np.sort(np.sort(x.simplices, 1), 0))
 
 
+def test_threads_the_system_will_not_start():
+    """NOTES.md E183: under a limit on threads (GTET_THREAD_SHIM, tests/threads.cmake: an
+    LD_PRELOAD that fails pthread_create past 2 live threads) the run uses the threads it can
+    start, warns, and gives the same tets; libgomp ended the interpreter with exit 1 before."""
+    import subprocess
+    import sys
+    shim = os.environ.get("GTET_THREAD_SHIM")
+    if not shim or not os.path.exists(shim):
+        pytest.skip("GTET_THREAD_SHIM (tests/threads.cmake) not set")
+    code = """if True:
+        import warnings
+        import numpy as np, gigatet
+        p = np.random.default_rng(2).random((100000, 3))  # validate's regions start threads
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            d = gigatet.Delaunay(p, threads=8)
+        assert d.stats["threads"] == 3 == d._mesh.threads, d.stats["threads"]
+        msgs = [str(x.message) for x in w if x.category is RuntimeWarning]
+        assert msgs and "ran on 3 of the 8 threads asked for" in msgs[0], msgs
+        # again in the same process: libgomp's pool holds 2 threads now, which a new probe
+        # would count against the limit and find room for none
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            again = gigatet.Delaunay(p, threads=8)
+        assert again.stats["threads"] == 3, again.stats["threads"]
+        ref = gigatet.Delaunay(p, threads=1)
+        key = lambda s: sorted(map(tuple, np.sort(s, axis=1)))
+        assert key(d.simplices) == key(ref.simplices)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            gigatet.Delaunay(p)  # threads=0: as many as can run, no warning
+        print("ok")
+    """
+    env = dict(os.environ, LD_PRELOAD=shim, GTET_SHIM_MAX_LIVE="2", OPENBLAS_NUM_THREADS="1",
+               MKL_NUM_THREADS="1")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       timeout=120, env=env)
+    assert r.returncode == 0 and r.stdout.strip() == "ok", (r.returncode, r.stdout, r.stderr)
+
+
 def test_check_and_stats():
     d = gigatet.Delaunay(cube_points(300), check=True)
     rep = d.check(full=True)
