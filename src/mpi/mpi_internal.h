@@ -116,6 +116,8 @@ typedef struct grid {
                                    stored in cell order) */
     float *cb;                  /* per cell: its points' bounding box lo[3], hi[3], rounded
                                    outward (a ball's answer skips the cells it misses) */
+    unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at
+                                   it can reach another tile's box (mx_grid_far, D11) */
 } grid;
 #define GB 4
 
@@ -221,6 +223,8 @@ int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
 double mx_layer_width(const run *R, int q);
 /* the tile's grid of cells, R->gr; puts R->tile in cell order (before S is built from it) */
 gtet_status mx_grid_build(run *R);
+/* R->gr.far from the tile grid and the gathered boxes (mx_grid_build's caller, D11) */
+gtet_status mx_grid_far(run *R);
 /* append to out (mpt records) the tile points in conflict with Q not sent to rank `to`
  * before (for a hull facet only those near the nearest one: D3), and mark them sent */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
