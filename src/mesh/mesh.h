@@ -44,4 +44,12 @@ size_t gtet_mesh_take_arrays(gtet_mesh *m, uint32_t **tets, uint32_t **neighbors
 gtet_status gtet_triangulate_wide(const double *xyz, size_t n, const gtet_options *opts,
                                   gtet_mesh **out);
 
+/* Internal: gtet_triangulate_wide for points the caller guarantees pairwise distinct (no two
+ * with equal coordinates, -0.0 counting as +0.0): the duplicate pass is skipped, vertex i is
+ * point i and the input map the identity.  Duplicates here are undefined behaviour.  For the
+ * distributed mode, whose local sets are distinct by construction (its own duplicate step,
+ * proofs/distributed.md D1). */
+gtet_status gtet_triangulate_wide_distinct(const double *xyz, size_t n, const gtet_options *opts,
+                                           gtet_mesh **out);
+
 #endif

@@ -66,8 +66,10 @@ static gtet_status triangulate_local(run *R)
         o.error = &e;
         o.input_done = mx_free_input;
         o.input_done_user = &xyz;
-        /* the arrays with room for the output's 64-bit rows (src/mesh/mesh.h, E130) */
-        gtet_status s = gtet_triangulate_wide(xyz, R->ns, &o, &R->mesh);
+        /* the arrays with room for the output's 64-bit rows (src/mesh/mesh.h, E130); S holds
+         * distinct points (one per vertex id: the duplicate step, D1), so the kernel's own
+         * duplicate pass is skipped */
+        gtet_status s = gtet_triangulate_wide_distinct(xyz, R->ns, &o, &R->mesh);
         free(xyz);
         if (s == GTET_ERR_DEGENERATE_INPUT && attempt == 0) {
             /* the tile with its ghosts is flat or tiny: add the global simplex (D5) */
