@@ -216,6 +216,9 @@ static inline int mx_ball_meets_box(const ball *B, const double *box)
     }
     return sqrt(d2) <= B->r * (1 + 1e-9);
 }
+/* a ball's reach per axis inside the box (lo[3], hi[3]): every point of the box within the
+ * ball has |x_k - c_k| <= h[k] (mpi_query.c, NOTES E132) */
+void mx_ball_reach(const double *lo, const double *hi, const ball *B, double h[3]);
 /* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box? */
 int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
                            const double *box);

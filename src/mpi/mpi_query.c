@@ -406,25 +406,35 @@ done:
 }
 
 
-/* A ball's cell range narrowed to the tile: a tile point x (inside the tile's box G->lo..hi,
- * its points' exact bounding box) within r of c has (x_k - c_k)^2 <= r^2 - d_j^2 - d_l^2 for
- * the two other axes j, l, d_j the distance from c_j to the box's range on axis j.  The huge
- * ball of a flat tet near the global hull meets the tile in a thin lens, and its range c +- r
- * was the whole grid: every block visited (NOTES E132).  Computed with
- * r (1 + 1e-9), whose excess (~2e-9 r^2) exceeds the rounding of the squares and differences
- * (< 10 eps r^2), the half-width widened like the ball's own range: no cell holding a point
- * within r of c is left out, so the answer is the same. */
-static void ball_clip(const grid *G, const ball *B, int lo[3], int hi[3])
+/* A ball's reach inside a box (lo[3], hi[3]) that holds the points of interest, axis by axis:
+ * a point x of the box within r of c has (x_k - c_k)^2 <= r^2 - d_j^2 - d_l^2 for the two other
+ * axes j, l, d_j the distance from c_j to the box's range on axis j.  The huge ball of a flat
+ * tet near the global hull meets the box in a thin lens, and its range c +- r was the whole
+ * grid: every block visited (NOTES E132).  Computed with r (1 + 1e-9), whose excess
+ * (~2e-9 r^2) exceeds the rounding of the squares and differences (< 10 eps r^2), and widened
+ * like the ball's own range: every such x has |x_k - c_k| <= h[k], so the cells from
+ * c_k - h[k] to c_k + h[k] hold it (the cell formula is monotone). */
+void mx_ball_reach(const double *lo, const double *hi, const ball *B, double h[3])
 {
     double r = B->r * (1 + 1e-9), d2[3];
     for (int k = 0; k < 3; k++) {
-        double d = mx_max(G->lo[k] - B->c[k], mx_max(0.0, B->c[k] - G->hi[k]));
+        double d = mx_max(lo[k] - B->c[k], mx_max(0.0, B->c[k] - hi[k]));
         d2[k] = d * d;
     }
     for (int k = 0; k < 3; k++) {
-        double h = sqrt(mx_max(r * r - d2[(k + 1) % 3] - d2[(k + 2) % 3], 0.0));
-        h += 1e-9 * (fabs(B->c[k]) + h);
-        int a = cell_of(G, k, B->c[k] - h), b = cell_of(G, k, B->c[k] + h);
+        h[k] = sqrt(mx_max(r * r - d2[(k + 1) % 3] - d2[(k + 2) % 3], 0.0));
+        h[k] += 1e-9 * (fabs(B->c[k]) + h[k]);
+    }
+}
+
+/* A ball's cell range narrowed to the tile (the tile's box G->lo..hi is its points' exact
+ * bounding box): mx_ball_reach. */
+static void ball_clip(const grid *G, const ball *B, int lo[3], int hi[3])
+{
+    double h[3];
+    mx_ball_reach(G->lo, G->hi, B, h);
+    for (int k = 0; k < 3; k++) {
+        int a = cell_of(G, k, B->c[k] - h[k]), b = cell_of(G, k, B->c[k] + h[k]);
         if (a > lo[k]) lo[k] = a;   /* both ranges hold cell_of(c_k): they meet */
         if (b < hi[k]) hi[k] = b;
     }
