@@ -533,9 +533,14 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                     p->id == Q->id[3])
                                     continue;
                                 int conflict;
+                                /* a point sent to `to` before is not answered whether or not it
+                                 * conflicts: asked after the floating filter, before the exact
+                                 * predicate */
+                                uint64_t key = (uint64_t)G->idx[j] * (uint64_t)P + (uint64_t)to;
                                 if (hull) {
                                     /* the block filter's test, point by point (D4) */
                                     if (!H.all && !hspace_may_reach(&H, p->x)) continue;
+                                    if (mx_hs_has(&R->sent, key)) continue;
                                     conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2],
                                                                    p->x) > 0;
                                 } else {
@@ -546,14 +551,12 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                             B.r * (1 + 1e-9))
                                             continue;
                                     }
+                                    if (mx_hs_has(&R->sent, key)) continue;
                                     conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2],
                                                                  Q->p[3], p->x) > 0;
                                 }
                                 if (!conflict) continue;
                                 if (hull) {   /* kept or dropped below (near_hull) */
-                                    if (mx_hs_has(&R->sent, (uint64_t)G->idx[j] * (uint64_t)P +
-                                                                (uint64_t)to))
-                                        continue;
                                     mpt *o = mx_vec_push(out);
                                     if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                            "out of memory");
@@ -561,11 +564,9 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                     o->id = G->idx[j];   /* the tile index until near_hull */
                                     continue;
                                 }
-                                int a = mx_hs_add(&R->sent, (uint64_t)G->idx[j] * (uint64_t)P +
-                                                             (uint64_t)to);
-                                if (a < 0) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
-                                                          "out of memory");
-                                if (a == 0) continue;
+                                if (mx_hs_add(&R->sent, key) < 0)
+                                    return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
+                                                   "out of memory");
                                 mpt *o = mx_vec_push(out);
                                 if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                        "out of memory");
