@@ -44,8 +44,11 @@ void mx_tet_ball(const double *a, const double *b, const double *cc, const doubl
         amax = mx_max(amax, fabs(a[k]));
     }
     double R = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-    /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it */
-    B->r = R * (1 + 1e-6) + 200 * DBL_EPSILON * cond * (R + L) + 1e-14 * (amax + R);
+    /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it,
+     * 1e-14 (amax + R) the rounding of a + o and |o|, and 1e-9 R that of R and of this sum: a
+     * tight ball (the thin lens of a flat tet's huge ball holds many points near its sphere,
+     * each an exact test in the answers) */
+    B->r = R * (1 + 1e-9) + 200 * DBL_EPSILON * cond * (R + L) + 1e-14 * (amax + R);
     if (!isfinite(B->r) || !isfinite(B->c[0]) || !isfinite(B->c[1]) || !isfinite(B->c[2]))
         return;
     B->all = 0;
