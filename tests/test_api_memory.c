@@ -448,7 +448,8 @@ static void populate_maps_whole_pages(void)
  * distributed mode widens its result into where they lie (src/mpi/mpi_output.c, NOTES.md
  * E130); gtet_triangulate's own stay shrunk to the tets (16 B a tet).  Uniform points fit the
  * first capacity (7 slots a point); points on a paraboloid (~15 tets a point) grow the arrays
- * (kmesh.c km_reserve), which must keep the room too. */
+ * (kmesh.c km_reserve), which must keep the room too.  gtet_triangulate_wide_distinct on the
+ * uniform (distinct) points: the same mesh, vertex i = point i. */
 static void wide_arrays_keep_room(void)
 {
     const size_t n = 20000;
@@ -489,6 +490,23 @@ static void wide_arrays_keep_room(void)
                    "kind %d: plain arrays of %zu and %zu bytes for %zu tets", kind,
                    malloc_usable_size(plain->tets), malloc_usable_size(plain->neighbors), nt);
 #endif
+        if (kind == 0) {  /* distinct points: gtet_triangulate_wide_distinct, the same mesh */
+            gtet_mesh *dist = NULL;
+            TEST_REQUIRE(gtet_triangulate_wide_distinct(xyz, n, &o, &dist) == GTET_OK &&
+                             gtet_mesh_num_tets(dist) == nt &&
+                             gtet_mesh_num_vertices(dist) == n,
+                         "distinct: a mesh of %zu tets", nt);
+            const uint32_t *map = gtet_mesh_input_map(dist);
+            size_t bad = 0;
+            for (size_t i = 0; i < n; i++) bad += map[i] != i;
+            TEST_CHECK(bad == 0 && memcmp(gtet_mesh_vertices(dist), xyz, 24 * n) == 0,
+                       "distinct: %zu input map entries not the identity, or other vertices", bad);
+            TEST_CHECK(memcmp(gtet_mesh_tets(plain), gtet_mesh_tets(dist), 16 * nt) == 0 &&
+                           memcmp(gtet_mesh_neighbors(plain), gtet_mesh_neighbors(dist),
+                                  16 * nt) == 0,
+                       "distinct: the meshes differ");
+            gtet_mesh_free(&dist);
+        }
         gtet_mesh_free(&plain);
         gtet_mesh_free(&wide);
     }

@@ -45,6 +45,7 @@ typedef struct run {
     double t_start, t_validated, t_sorted, t_inserted, t_done;
     mem_grow grow;         /* the memory guard's second check (memory.h) */
     int wide;              /* gtet_triangulate_wide (src/mesh/mesh.h) */
+    int distinct;          /* gtet_triangulate_wide_distinct: no duplicate pass */
 } run;
 
 static void say(const run *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -80,6 +81,23 @@ static void input_done(run *r)
 {
     r->xyz = NULL;
     if (r->opts.input_done) r->opts.input_done(r->opts.input_done_user);
+}
+
+/* gtet_triangulate_wide_distinct: the caller's points are pairwise distinct, so the vertices
+ * are the points in their order and the input map is the identity (what kval_dedup returns
+ * for such points, without its hash pass). */
+static gtet_status copy_distinct(run *r)
+{
+    gtet_mesh *res = r->res;
+    const size_t n = r->n;
+    res->vertices = base_alloc_big((n ? 3 * n : 3) * sizeof *res->vertices);
+    res->input_map = base_alloc_big((n ? n : 1) * sizeof *res->input_map);
+    if (!res->vertices || !res->input_map)
+        return base_fail(r->err, GTET_ERR_OUT_OF_MEMORY, "allocating the vertices");
+    if (n) memcpy(res->vertices, r->xyz, 3 * n * sizeof *res->vertices);
+    for (size_t i = 0; i < n; i++) res->input_map[i] = (uint32_t)i;
+    res->n_vertices = n;
+    return GTET_OK;
 }
 
 /* The arguments, finite coordinates and duplicates: r->res holds the vertices. */
@@ -122,8 +140,9 @@ static gtet_status prepare(run *r, gtet_mesh **out)
     if (!r->res) return base_fail(r->err, GTET_ERR_OUT_OF_MEMORY, "allocating the result");
     gtet_mesh *res = r->res;
     res->n_points = r->n;
-    s = kval_dedup(r->xyz, r->n, r->threads, &res->vertices, &res->input_map, &res->n_vertices,
-                   r->err);
+    s = r->distinct ? copy_distinct(r)
+                    : kval_dedup(r->xyz, r->n, r->threads, &res->vertices, &res->input_map,
+                                 &res->n_vertices, r->err);
     r->t_validated = omp_get_wtime();
     if (s == GTET_OK && !r->opts.check) input_done(r);
     if (s == GTET_OK && verbose(r, 1))
@@ -231,11 +250,12 @@ static gtet_status finish(run *r)
 }
 
 static gtet_status triangulate(const double *xyz, size_t n, const gtet_options *opts_in,
-                               int wide, gtet_mesh **out)
+                               int wide, int distinct, gtet_mesh **out)
 {
     run r;
     memset(&r, 0, sizeof r);
     r.wide = wide;
+    r.distinct = distinct;
     r.xyz = xyz;
     r.n = n;
     if (opts_in) r.opts = *opts_in;
@@ -271,11 +291,17 @@ static gtet_status triangulate(const double *xyz, size_t n, const gtet_options *
 gtet_status gtet_triangulate(const double *xyz, size_t n, const gtet_options *opts_in,
                              gtet_mesh **out)
 {
-    return triangulate(xyz, n, opts_in, 0, out);
+    return triangulate(xyz, n, opts_in, 0, 0, out);
 }
 
 gtet_status gtet_triangulate_wide(const double *xyz, size_t n, const gtet_options *opts_in,
                                   gtet_mesh **out)
 {
-    return triangulate(xyz, n, opts_in, 1, out);
+    return triangulate(xyz, n, opts_in, 1, 0, out);
+}
+
+gtet_status gtet_triangulate_wide_distinct(const double *xyz, size_t n,
+                                           const gtet_options *opts_in, gtet_mesh **out)
+{
+    return triangulate(xyz, n, opts_in, 1, 1, out);
 }

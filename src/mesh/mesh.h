@@ -59,4 +59,12 @@ gtet_status gtet_mesh_from_arrays(const double *vertices, size_t nv, const uint3
                                   size_t n, const uint32_t *tets, const uint32_t *neighbors,
                                   size_t nt, gtet_mesh **out, char *msg, size_t msg_size);
 
+/* Internal: gtet_triangulate_wide for points the caller guarantees pairwise distinct (no two
+ * with equal coordinates, -0.0 counting as +0.0): the duplicate pass is skipped, vertex i is
+ * point i and the input map the identity.  Duplicates here are undefined behaviour.  For the
+ * distributed mode, whose local sets are distinct by construction (its own duplicate step,
+ * proofs/distributed.md D1). */
+gtet_status gtet_triangulate_wide_distinct(const double *xyz, size_t n, const gtet_options *opts,
+                                           gtet_mesh **out);
+
 #endif

@@ -43,7 +43,9 @@ static int ngrid_build(ngrid *G, const run *R, size_t n_old)
             G->box[k] = fmin(G->box[k], R->sp[i].x[k]);
             G->box[3 + k] = fmax(G->box[3 + k], R->sp[i].x[k]);
         }
-    int g = (int)fmin(64, fmax(1, ceil(2 * cbrt((double)nn))));
+    /* ~nn/8 cells: N lies along the tile's faces (a sheet in its box), so most cells of a
+     * finer grid are empty and a ball's range visits them one by one (NOTES E192) */
+    int g = (int)fmin(64, fmax(1, ceil(0.5 * cbrt((double)nn))));
     size_t cells = 1;
     for (int k = 0; k < 3; k++) {
         double e = G->box[3 + k] - G->box[k];
@@ -74,12 +76,17 @@ static int tet_conflicts(const run *R, const ngrid *G, const uint32_t *v)
     mx_tet_ball(sp[v[0]].x, sp[v[1]].x, sp[v[2]].x, sp[v[3]].x, &B);
     if (!mx_ball_meets_box(&B, G->box)) return 0;
     int lo[3] = {0, 0, 0}, hi[3] = {G->g[0] - 1, G->g[1] - 1, G->g[2] - 1};
-    if (!B.all)
+    if (!B.all) {
+        /* only the cells the ball reaches inside N's box (its points' exact bounding box): a
+         * flat tet's huge ball spans the grid, whose cells are mostly empty (N lies along the
+         * tile's faces) */
+        double h[3];
+        mx_ball_reach(G->box, G->box + 3, &B, h);
         for (int k = 0; k < 3; k++) {
-            double r = B.r * (1 + 1e-9);
-            lo[k] = ncell(G, k, B.c[k] - r);
-            hi[k] = ncell(G, k, B.c[k] + r);
+            lo[k] = ncell(G, k, B.c[k] - h[k]);
+            hi[k] = ncell(G, k, B.c[k] + h[k]);
         }
+    }
     for (int z = lo[2]; z <= hi[2]; z++)
         for (int y = lo[1]; y <= hi[1]; y++)
             for (int x = lo[0]; x <= hi[0]; x++) {

@@ -66,8 +66,10 @@ static gtet_status triangulate_local(run *R)
         o.error = &e;
         o.input_done = mx_free_input;
         o.input_done_user = &xyz;
-        /* the arrays with room for the output's 64-bit rows (src/mesh/mesh.h, E130) */
-        gtet_status s = gtet_triangulate_wide(xyz, R->ns, &o, &R->mesh);
+        /* the arrays with room for the output's 64-bit rows (src/mesh/mesh.h, E130); S holds
+         * distinct points (one per vertex id: the duplicate step, D1), so the kernel's own
+         * duplicate pass is skipped */
+        gtet_status s = gtet_triangulate_wide_distinct(xyz, R->ns, &o, &R->mesh);
         free(xyz);
         if (s == GTET_ERR_DEGENERATE_INPUT && attempt == 0) {
             /* the tile with its ghosts is flat or tiny: add the global simplex (D5) */
@@ -176,6 +178,7 @@ gtet_status mx_step_seed(run *R, double layer)
         }
     }
     if (s == GTET_OK) s = mx_grid_build(R);   /* reorders the tile: before S takes it */
+    if (s == GTET_OK) s = mx_grid_far(R);
     if (s == GTET_OK)
         for (size_t i = 0; i < R->m && s == GTET_OK; i++)
             if (s_add(R, &R->tile[i], me) < 0)
@@ -279,8 +282,11 @@ static gtet_status make_queries(run *R, vec *out)
         if (t + QPF < nt)
             for (int i = 0; i < 4; i++) __builtin_prefetch(&R->sp[v[4 * QPF + i]]);
         if (v[0] >= m && v[1] >= m && v[2] >= m && v[3] >= m) continue;
+        /* a far tile vertex: the tet's circumball misses every other tile's box (D11) */
+        int far = 0;
+        for (int i = 0; i < 4; i++) far |= v[i] < m && R->gr.far[v[i]];
         /* the tet */
-        for (int pass = 0; pass < 5; pass++) {
+        for (int pass = far; pass < 5; pass++) {
             query Q;
             uint64_t key[4];
             if (pass == 0) {

@@ -116,6 +116,8 @@ typedef struct grid {
                                    stored in cell order) */
     float *cb;                  /* per cell: its points' bounding box lo[3], hi[3], rounded
                                    outward (a ball's answer skips the cells it misses) */
+    unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at
+                                   it can reach another tile's box (mx_grid_far, D11) */
 } grid;
 #define GB 4
 
@@ -214,6 +216,9 @@ static inline int mx_ball_meets_box(const ball *B, const double *box)
     }
     return sqrt(d2) <= B->r * (1 + 1e-9);
 }
+/* a ball's reach per axis inside the box (lo[3], hi[3]): every point of the box within the
+ * ball has |x_k - c_k| <= h[k] (mpi_query.c, NOTES E132) */
+void mx_ball_reach(const double *lo, const double *hi, const ball *B, double h[3]);
 /* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box? */
 int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
                            const double *box);
@@ -221,6 +226,8 @@ int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
 double mx_layer_width(const run *R, int q);
 /* the tile's grid of cells, R->gr; puts R->tile in cell order (before S is built from it) */
 gtet_status mx_grid_build(run *R);
+/* R->gr.far from the tile grid and the gathered boxes (mx_grid_build's caller, D11) */
+gtet_status mx_grid_far(run *R);
 /* append to out (mpt records) the tile points in conflict with Q not sent to rank `to`
  * before (for a hull facet only those near the nearest one: D3), and mark them sent */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out);

@@ -181,8 +181,10 @@ static void release_rounds(run *R)
     free(R->gr.start);
     free(R->gr.idx);
     free(R->gr.cb);
+    free(R->gr.far);
     R->gr.start = R->gr.idx = NULL;
     R->gr.cb = NULL;
+    R->gr.far = NULL;
     free(R->prev);
     R->prev = NULL;
     R->nprev = 0;

@@ -44,8 +44,11 @@ void mx_tet_ball(const double *a, const double *b, const double *cc, const doubl
         amax = mx_max(amax, fabs(a[k]));
     }
     double R = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-    /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it */
-    B->r = R * (1 + 1e-6) + 200 * DBL_EPSILON * cond * (R + L) + 1e-14 * (amax + R);
+    /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it,
+     * 1e-14 (amax + R) the rounding of a + o and |o|, and 1e-9 R that of R and of this sum: a
+     * tight ball (the thin lens of a flat tet's huge ball holds many points near its sphere,
+     * each an exact test in the answers) */
+    B->r = R * (1 + 1e-9) + 200 * DBL_EPSILON * cond * (R + L) + 1e-14 * (amax + R);
     if (!isfinite(B->r) || !isfinite(B->c[0]) || !isfinite(B->c[1]) || !isfinite(B->c[2]))
         return;
     B->all = 0;
@@ -218,26 +221,223 @@ gtet_status mx_grid_build(run *R)
     return cell_boxes(R, cells);
 }
 
+/* ------------------------------------------------------------------------------------------ */
+/* tile points no star tet of which can reach another tile (proofs/distributed.md D11)        */
+/* ------------------------------------------------------------------------------------------ */
 
-/* A ball's cell range narrowed to the tile: a tile point x (inside the tile's box G->lo..hi,
- * its points' exact bounding box) within r of c has (x_k - c_k)^2 <= r^2 - d_j^2 - d_l^2 for
- * the two other axes j, l, d_j the distance from c_j to the box's range on axis j.  The huge
- * ball of a flat tet near the global hull meets the tile in a thin lens, and its range c +- r
- * was the whole grid: every block visited (NOTES E132).  Computed with
- * r (1 + 1e-9), whose excess (~2e-9 r^2) exceeds the rounding of the squares and differences
- * (< 10 eps r^2), the half-width widened like the ball's own range: no cell holding a point
- * within r of c is left out, so the answer is the same. */
-static void ball_clip(const grid *G, const ball *B, int lo[3], int hi[3])
+/* one axis of the grid for D11: a[i] <= every point of cell i <= b[i] (checked per cell by
+ * far_cells), step >= a[i+1] - a[i] >= dmin, span >= b[i+1] - a[i], all exact bounds of the
+ * computed doubles (a floating difference of two doubles is within a relative 2^-53 of the
+ * exact one; the factors 1 -+ 1e-9 cover it and their own rounding) */
+typedef struct far_axis {
+    double *a, *b, step, span, dmin;
+    int klo, khi;   /* the blocks a ball of radius rho through a point of cell i must hold
+                       start in [i - klo + 1, i + khi] (D11) */
+} far_axis;
+
+/* 0 when the axis cannot certify anything (one cell, a flat axis, overflow) */
+static int far_axis_init(const grid *G, int k, far_axis *X)
+{
+    int g = G->g[k];
+    double cw = G->inv[k] > 0 ? 1 / G->inv[k] : 0;
+    double eta = 1e-9 * (fabs(G->lo[k]) + fabs(G->hi[k]));
+    if (g < 3 || !(cw > 0) || !isfinite(cw) || !isfinite(eta)) return 0;
+    X->step = X->span = 0;
+    X->dmin = INFINITY;
+    for (int i = 0; i < g; i++) {
+        X->a[i] = (G->lo[k] + i * cw) - eta;
+        X->b[i] = (G->lo[k] + (i + 1) * cw) + eta;
+    }
+    for (int i = 0; i + 1 < g; i++) {
+        X->step = mx_max(X->step, X->a[i + 1] - X->a[i]);
+        X->span = mx_max(X->span, X->b[i + 1] - X->a[i]);
+        X->dmin = fmin(X->dmin, X->a[i + 1] - X->a[i]);
+    }
+    X->step *= 1 + 1e-9;
+    X->span *= 1 + 1e-9;
+    X->dmin *= 1 - 1e-9;
+    return X->dmin > 0 && isfinite(X->step + X->span);
+}
+
+/* occ[c]: cell c holds a point and its points' box lies in [a, b] on every axis */
+static void far_occupied(const grid *G, far_axis X[3], unsigned char *occ)
+{
+    size_t ci = 0;
+    for (int z = 0; z < G->g[2]; z++)
+        for (int y = 0; y < G->g[1]; y++)
+            for (int x = 0; x < G->g[0]; x++, ci++) {
+                const float *cb = G->cb + 6 * ci;
+                int i[3] = {x, y, z};
+                int in = G->start[ci] < G->start[ci + 1];
+                for (int k = 0; k < 3 && in; k++)
+                    in = (double)cb[k] >= X[k].a[i[k]] && (double)cb[3 + k] <= X[k].b[i[k]];
+                occ[ci] = (unsigned char)in;
+            }
+}
+
+/* the summed-area table's entry for blocks before (i, j, l) (index 0: the zero border) */
+#define SAT(i, j, l) sat[((size_t)(l) * s1 + (size_t)(j)) * s0 + (size_t)(i)]
+
+/* sat: summed-area table ((g0 - 1) x (g1 - 1) x (g2 - 1) blocks, one more in each direction)
+ * of "the 2 x 2 x 2 cells from this one on hold no occupied cell" */
+static void far_empty_blocks(const grid *G, const unsigned char *occ, uint32_t *sat)
+{
+    size_t s0 = (size_t)G->g[0], s1 = (size_t)G->g[1];   /* the table is g0 x g1 x g2 */
+    for (int z = 0; z + 1 < G->g[2]; z++)
+        for (int y = 0; y + 1 < G->g[1]; y++)
+            for (int x = 0; x + 1 < G->g[0]; x++) {
+                int any = 0;
+                for (int d = 0; d < 8 && !any; d++)
+                    any = occ[((size_t)(z + (d >> 2)) * s1 + (size_t)(y + ((d >> 1) & 1))) * s0 +
+                              (size_t)(x + (d & 1))];
+                size_t X1 = (size_t)x + 1, Y1 = (size_t)y + 1, Z1 = (size_t)z + 1;
+                SAT(X1, Y1, Z1) = (uint32_t)!any + SAT(X1 - 1, Y1, Z1) + SAT(X1, Y1 - 1, Z1) +
+                                  SAT(X1, Y1, Z1 - 1) - SAT(X1 - 1, Y1 - 1, Z1) -
+                                  SAT(X1 - 1, Y1, Z1 - 1) - SAT(X1, Y1 - 1, Z1 - 1) +
+                                  SAT(X1 - 1, Y1 - 1, Z1 - 1);
+            }
+}
+
+/* D11 for cell i (ranges checked by the caller): no empty block starts in
+ * [i - klo + 1, i + khi] */
+static int far_cell_covered(const grid *G, const far_axis X[3], const uint32_t *sat,
+                            const int i[3])
+{
+    size_t s0 = (size_t)G->g[0], s1 = (size_t)G->g[1];
+    size_t lo[3], hi[3];   /* table indices: blocks lo+1 .. hi+1 minus the border */
+    for (int k = 0; k < 3; k++) {
+        lo[k] = (size_t)(i[k] - X[k].klo + 1);
+        hi[k] = (size_t)(i[k] + X[k].khi) + 1;
+    }
+    uint32_t n = SAT(hi[0], hi[1], hi[2]) - SAT(lo[0], hi[1], hi[2]) - SAT(hi[0], lo[1], hi[2]) -
+                 SAT(hi[0], hi[1], lo[2]) + SAT(lo[0], lo[1], hi[2]) + SAT(lo[0], hi[1], lo[2]) +
+                 SAT(hi[0], lo[1], lo[2]) - SAT(lo[0], lo[1], lo[2]);
+    return n == 0;
+}
+#undef SAT
+
+/* the floating distance between the box [a, b] (per axis) and box (lo[3], hi[3]); the exact
+ * distance is at least this times 1 - 6 * 2^-53 (each step a correctly rounded operation on
+ * non-negative values) */
+static double far_box_gap(const double *a, const double *b, const double *box)
+{
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double e = mx_max(0.0, mx_max(box[k] - b[k], a[k] - box[3 + k]));
+        d2 += e * e;
+    }
+    return sqrt(d2);
+}
+
+/* cell ci (its indices i) certified by D11 and at least 2 rho from every other tile's box */
+static int far_cell(const run *R, const far_axis X[3], const uint32_t *sat, const int i[3],
+                    double rho)
+{
+    const grid *G = &R->gr;
+    for (int k = 0; k < 3; k++)
+        if (i[k] < X[k].klo || i[k] + X[k].khi > G->g[k] - 2) return 0;
+    if (!far_cell_covered(G, X, sat, i)) return 0;
+    double a[3], b[3];
+    for (int k = 0; k < 3; k++) {
+        a[k] = X[k].a[i[k]];
+        b[k] = X[k].b[i[k]];
+    }
+    for (int q = 0; q < R->c.size; q++) {
+        if (q == R->c.rank || R->tcount[q] == 0) continue;
+        if (!(far_box_gap(a, b, R->box + 6 * q) * (1 - 1e-9) > 2 * rho)) return 0;
+    }
+    return 1;
+}
+
+/* GTET_MPI_FAR=off in the environment: no tile point is far, every star tet takes the ball
+ * test.  The queries sent must be the same either way (a far vertex's tets have balls that miss
+ * every other tile's box); tests/mpi/run_tests.sh compares the two. */
+static int far_off(void)
+{
+    const char *e = getenv("GTET_MPI_FAR");
+    return e && (strcmp(e, "off") == 0 || strcmp(e, "0") == 0);
+}
+
+gtet_status mx_grid_far(run *R)
+{
+    grid *G = &R->gr;
+    if (R->m == 0) return GTET_OK;
+    G->far = mx_calloc(R->m, 1);
+    size_t cells = (size_t)G->g[0] * (size_t)G->g[1] * (size_t)G->g[2];
+    double *ab = mx_malloc(2 * (size_t)(G->g[0] + G->g[1] + G->g[2]) * sizeof *ab);
+    unsigned char *occ = mx_malloc(cells);
+    uint32_t *sat = mx_calloc(cells, sizeof *sat);
+    gtet_status s = GTET_OK;
+    if (!G->far || !ab || !occ || !sat) {
+        s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
+        goto done;
+    }
+    if (far_off()) goto done;
+    far_axis X[3];
+    double s2 = 0;   /* twice the cube's half-side: above every axis's step + span */
+    for (int k = 0, at = 0; k < 3; at += 2 * G->g[k], k++) {
+        X[k].a = ab + at;
+        X[k].b = ab + at + G->g[k];
+        if (!far_axis_init(G, k, &X[k])) goto done;
+        s2 = mx_max(s2, X[k].step + X[k].span);
+    }
+    double hs = s2 * 0.5 * (1 + 1e-9);             /* 2 hs > step + span on every axis */
+    double rho = hs * 1.7320509 * (1 + 1e-9);      /* >= sqrt(3) hs */
+    for (int k = 0; k < 3; k++) {
+        /* klo dmin >= rho + hs and khi dmin > span + rho - hs */
+        double klo = floor((rho + hs) / X[k].dmin * (1 + 1e-9)) + 1;
+        double khi = floor((X[k].span + rho - hs) / X[k].dmin * (1 + 1e-9)) + 1;
+        if (!(klo <= 64 && khi <= 64)) goto done;   /* a thin axis: nothing certified */
+        X[k].klo = (int)klo;
+        X[k].khi = (int)khi;
+    }
+    far_occupied(G, X, occ);
+    far_empty_blocks(G, occ, sat);
+    size_t ci = 0;
+    for (int z = 0; z < G->g[2]; z++)
+        for (int y = 0; y < G->g[1]; y++)
+            for (int x = 0; x < G->g[0]; x++, ci++) {
+                int i[3] = {x, y, z};
+                if (!occ[ci] || !far_cell(R, X, sat, i, rho)) continue;
+                for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) G->far[j] = 1;
+            }
+done:
+    free(ab);
+    free(occ);
+    free(sat);
+    return s;
+}
+
+
+/* A ball's reach inside a box (lo[3], hi[3]) that holds the points of interest, axis by axis:
+ * a point x of the box within r of c has (x_k - c_k)^2 <= r^2 - d_j^2 - d_l^2 for the two other
+ * axes j, l, d_j the distance from c_j to the box's range on axis j.  The huge ball of a flat
+ * tet near the global hull meets the box in a thin lens, and its range c +- r was the whole
+ * grid: every block visited (NOTES E132).  Computed with r (1 + 1e-9), whose excess
+ * (~2e-9 r^2) exceeds the rounding of the squares and differences (< 10 eps r^2), and widened
+ * like the ball's own range: every such x has |x_k - c_k| <= h[k], so the cells from
+ * c_k - h[k] to c_k + h[k] hold it (the cell formula is monotone). */
+void mx_ball_reach(const double *lo, const double *hi, const ball *B, double h[3])
 {
     double r = B->r * (1 + 1e-9), d2[3];
     for (int k = 0; k < 3; k++) {
-        double d = mx_max(G->lo[k] - B->c[k], mx_max(0.0, B->c[k] - G->hi[k]));
+        double d = mx_max(lo[k] - B->c[k], mx_max(0.0, B->c[k] - hi[k]));
         d2[k] = d * d;
     }
     for (int k = 0; k < 3; k++) {
-        double h = sqrt(mx_max(r * r - d2[(k + 1) % 3] - d2[(k + 2) % 3], 0.0));
-        h += 1e-9 * (fabs(B->c[k]) + h);
-        int a = cell_of(G, k, B->c[k] - h), b = cell_of(G, k, B->c[k] + h);
+        h[k] = sqrt(mx_max(r * r - d2[(k + 1) % 3] - d2[(k + 2) % 3], 0.0));
+        h[k] += 1e-9 * (fabs(B->c[k]) + h[k]);
+    }
+}
+
+/* A ball's cell range narrowed to the tile (the tile's box G->lo..hi is its points' exact
+ * bounding box): mx_ball_reach. */
+static void ball_clip(const grid *G, const ball *B, int lo[3], int hi[3])
+{
+    double h[3];
+    mx_ball_reach(G->lo, G->hi, B, h);
+    for (int k = 0; k < 3; k++) {
+        int a = cell_of(G, k, B->c[k] - h[k]), b = cell_of(G, k, B->c[k] + h[k]);
         if (a > lo[k]) lo[k] = a;   /* both ranges hold cell_of(c_k): they meet */
         if (b < hi[k]) hi[k] = b;
     }
@@ -336,9 +536,14 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                     p->id == Q->id[3])
                                     continue;
                                 int conflict;
+                                /* a point sent to `to` before is not answered whether or not it
+                                 * conflicts: asked after the floating filter, before the exact
+                                 * predicate */
+                                uint64_t key = (uint64_t)G->idx[j] * (uint64_t)P + (uint64_t)to;
                                 if (hull) {
                                     /* the block filter's test, point by point (D4) */
                                     if (!H.all && !hspace_may_reach(&H, p->x)) continue;
+                                    if (mx_hs_has(&R->sent, key)) continue;
                                     conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2],
                                                                    p->x) > 0;
                                 } else {
@@ -349,14 +554,12 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                             B.r * (1 + 1e-9))
                                             continue;
                                     }
+                                    if (mx_hs_has(&R->sent, key)) continue;
                                     conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2],
                                                                  Q->p[3], p->x) > 0;
                                 }
                                 if (!conflict) continue;
                                 if (hull) {   /* kept or dropped below (near_hull) */
-                                    if (mx_hs_has(&R->sent, (uint64_t)G->idx[j] * (uint64_t)P +
-                                                                (uint64_t)to))
-                                        continue;
                                     mpt *o = mx_vec_push(out);
                                     if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                            "out of memory");
@@ -364,11 +567,9 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                     o->id = G->idx[j];   /* the tile index until near_hull */
                                     continue;
                                 }
-                                int a = mx_hs_add(&R->sent, (uint64_t)G->idx[j] * (uint64_t)P +
-                                                             (uint64_t)to);
-                                if (a < 0) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
-                                                          "out of memory");
-                                if (a == 0) continue;
+                                if (mx_hs_add(&R->sent, key) < 0)
+                                    return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
+                                                   "out of memory");
                                 mpt *o = mx_vec_push(out);
                                 if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                        "out of memory");

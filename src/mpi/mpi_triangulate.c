@@ -62,6 +62,7 @@ static void run_free(run *R)
     free(R->gr.start);
     free(R->gr.idx);
     free(R->gr.cb);
+    free(R->gr.far);
     free(R->prev);
     gtet_mesh_free(&R->mesh);
     free(R->ptv);

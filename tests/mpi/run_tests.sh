@@ -4,7 +4,8 @@
 #   equal       np 1..4 x threads 1..2: the gathered mesh is the single-process mesh (gigatet
 #               diff exits 0) and gigatet check accepts it, on uniform points, a shuffled grid,
 #               a co-spherical set, a sphere surface and a dense cluster in a sparse set; a
-#               thin slab whose later rounds' queries fetch points
+#               thin slab whose later rounds' queries fetch points; a cube with a void, whose
+#               queries must not change when far tile vertices skip the ball test (D11)
 #   degenerate  a rank whose tile is empty, ranks without input points, tiny sets, duplicates
 #               across ranks, --check
 #   io          .bin (MPI-IO) and .xyz (rank 0) give the same mesh; .ele/.msh; .pvtu read by VTK
@@ -109,7 +110,30 @@ with open('slab.xyz', 'w') as f:
         x = r.random(); y = r.random(); z = 0.02 * r.random()
         f.write('%.17g %.17g %.17g\n' % (x, y, z))"
   ref slab slab.xyz
-  for np in 2 4; do same slab slab.xyz "$np" 1 --check; done ;;
+  for np in 2 4; do same slab slab.xyz "$np" 1 --check; done
+  # a cube with a spherical void across the first split: a tet with a far tile vertex sends
+  # no query (proofs/distributed.md D11, mpi_query.c mx_grid_far), which must change nothing,
+  # not even the queries sent (such a tet's ball misses every other tile's box): the counts
+  # equal GTET_MPI_FAR=off's.  Without the empty-block test (far_cell_covered) the void's wall
+  # counts as far and np 2-4 send fewer queries (the mesh happens to stay right here)
+  python3 -c "
+import random
+r = random.Random(6)
+n = 0
+with open('void.xyz', 'w') as f:
+    while n < 60000:
+        x, y, z = r.random(), r.random(), r.random()
+        if (x - 0.5)**2 + (y - 0.47)**2 + (z - 0.52)**2 < 0.09: continue
+        f.write('%.17g %.17g %.17g\n' % (x, y, z)); n += 1"
+  ref void void.xyz
+  q() { python3 -c "import json, sys; print([r['queries_sent'] for r in json.load(sys.stdin)['per_rank']])"; }
+  for np in 2 3 4; do
+    same void void.xyz "$np" 1
+    a=$(run "$np" "$mpicli" triangulate void.xyz -q --stats | q)
+    b=$(GTET_MPI_FAR=off run "$np" -x GTET_MPI_FAR "$mpicli" triangulate void.xyz -q --stats | q)
+    if [ -n "$a" ] && [ "$a" = "$b" ]; then ok "void np=$np: far vertices change no query ($a)"
+    else bad "void np=$np: queries sent $a, with GTET_MPI_FAR=off $b"; fi
+  done ;;
 degenerate)
   # more than half the points on the plane x = 0 and x the longest axis: the kd split is at
   # x = 0 and the first rank's tile is empty
