@@ -458,7 +458,9 @@ typedef struct gtet_diff_report {
 /* Compare two meshes of one point set as sets of tets over coordinates: numbering, vertex
  * order and orientation inside each tet may differ.  When they differ, both are checked in
  * GTET_CHECK_DELAUNAY | GTET_CHECK_ANY_ORIENTATION mode (against xyz when given), and when
- * both pass, the tets that differ are grouped by the Delaunay cell they triangulate.  Returns
+ * both pass, the tets that differ are grouped by the Delaunay cell they triangulate.  When
+ * they are identical and xyz is given, the mesh is checked once the same way against xyz: a
+ * failure is GTET_DIFF_NEITHER_DELAUNAY (check_a and check_b say why), not IDENTICAL.  Returns
  * GTET_OK when the comparison ran (report.kind says the verdict), or an argument / memory
  * error.  Free the report's groups with gtet_diff_report_free. */
 GTET_API gtet_status gtet_diff(const double *va, size_t nva, const uint32_t *ta, size_t nta,

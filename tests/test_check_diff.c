@@ -197,6 +197,41 @@ static void test_unused_copies_are_accepted_and_unused_points_are_not(void)
     free(p);
 }
 
+/* NOTES.md Q33: an identical pair is judged against the input points when they are given:
+ * one point of the input moved (as a writer that rounds would), or a mesh that is not
+ * Delaunay, is not "identical"; without input points the verdict stays the comparison's. */
+static void test_identical_pair_is_checked_against_the_input(void)
+{
+    double *p = tm_random_points(11, 30);
+    tmesh a = tm_brute_delaunay(p, 30);
+    gtet_diff_report d;
+    TEST_REQUIRE(gtet_diff(a.v, a.nv, a.t, a.nt, a.v, a.nv, a.t, a.nt, p, 30, &d) == GTET_OK, "%s",
+                 d.message);
+    TEST_CHECK(d.kind == GTET_DIFF_IDENTICAL, "the input itself: %s", d.message);
+    gtet_diff_report_free(&d);
+    double q[90];
+    memcpy(q, p, sizeof q);
+    q[3 * 7 + 1] *= 1 + 1e-12;  /* the input differs from both meshes in one coordinate */
+    TEST_REQUIRE(gtet_diff(a.v, a.nv, a.t, a.nt, a.v, a.nv, a.t, a.nt, q, 30, &d) == GTET_OK, "%s",
+                 d.message);
+    TEST_CHECK(d.kind == GTET_DIFF_NEITHER_DELAUNAY && !d.check_a.ok && !d.check_b.ok &&
+                   strstr(d.message, "identical, and neither is a Delaunay mesh of the input"),
+               "a moved input point: %d %s", (int)d.kind, d.message);
+    gtet_diff_report_free(&d);
+    TEST_REQUIRE(gtet_diff(a.v, a.nv, a.t, a.nt, a.v, a.nv, a.t, a.nt, NULL, 0, &d) == GTET_OK, "%s",
+                 d.message);
+    TEST_CHECK(d.kind == GTET_DIFF_IDENTICAL, "no input: %s", d.message);
+    gtet_diff_report_free(&d);
+    /* the same mesh with a tet missing on both sides: identical, but no tetrahedrization of
+     * the input (the checker names the hole) */
+    TEST_REQUIRE(gtet_diff(a.v, a.nv, a.t, a.nt - 1, a.v, a.nv, a.t, a.nt - 1, p, 30, &d) == GTET_OK,
+                 "%s", d.message);
+    TEST_CHECK(d.kind == GTET_DIFF_NEITHER_DELAUNAY, "a tet missing on both sides: %s", d.message);
+    gtet_diff_report_free(&d);
+    tm_free(&a);
+    free(p);
+}
+
 int main(void)
 {
     TU_RUN(test_both_cube_splits_are_delaunay_and_differ_by_one_group);
@@ -204,5 +239,6 @@ int main(void)
     TU_RUN(test_flat_bipyramid_in_two_tets_fails_both_modes);
     TU_RUN(test_renumbered_reoriented_copy_is_identical_and_moved_point_is_not);
     TU_RUN(test_unused_copies_are_accepted_and_unused_points_are_not);
+    TU_RUN(test_identical_pair_is_checked_against_the_input);
     return tu_finish();
 }

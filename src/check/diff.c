@@ -408,6 +408,23 @@ static gtet_status check_side(side *s, const double *xyz, size_t n)
                             &s->cell, &s->cell_hull);
 }
 
+/* Identical meshes with input points: the promise "against xyz when given" holds for them too,
+ * and one check judges both (the same tets over the same points).  A failure -- a point of xyz
+ * that is no vertex, a vertex that is no point of xyz, or the mesh not Delaunay -- makes the
+ * verdict NEITHER_DELAUNAY with the check's message on both sides: an identical pair that is
+ * not a triangulation of the input must not pass (NOTES.md Q33). */
+static gtet_status identical_against_input(side *a, const double *xyz, size_t n,
+                                           gtet_diff_report *r)
+{
+    gtet_status st = check_side(a, xyz, n);
+    if (st == GTET_ERR_OUT_OF_MEMORY) return st;
+    if (st != GTET_OK) {
+        r->check_b = r->check_a;
+        r->kind = GTET_DIFF_NEITHER_DELAUNAY;
+    }
+    return GTET_OK;
+}
+
 static void verdict(gtet_diff_report *r, const near_point *np)
 {
     char *m = r->message;
@@ -442,7 +459,11 @@ static void verdict(gtet_diff_report *r, const near_point *np)
         snprintf(m, z, "B is not Delaunay: %.480s", r->check_b.message);
         break;
     case GTET_DIFF_NEITHER_DELAUNAY:
-        snprintf(m, z, "neither is Delaunay; A: %.480s", r->check_a.message);
+        if (r->common && !r->only_a && !r->only_b)  /* identical_against_input's verdict */
+            snprintf(m, z, "identical, and neither is a Delaunay mesh of the input points: %.440s",
+                     r->check_a.message);
+        else
+            snprintf(m, z, "neither is Delaunay; A: %.480s", r->check_a.message);
         break;
     }
 }
@@ -480,7 +501,7 @@ static gtet_status diff_run(side *a, side *b, const double *xyz, size_t n, gtet_
         merge(a, b, r);
         if (!r->only_a && !r->only_b) {
             r->kind = GTET_DIFF_IDENTICAL;
-            return GTET_OK;
+            return xyz ? identical_against_input(a, xyz, n, r) : GTET_OK;
         }
     }
     gtet_status sa = check_side(a, xyz, n), sb = check_side(b, xyz, n);
