@@ -47,20 +47,21 @@ __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t 
 }
 
 /* locate.c: a ghost in conflict with p found by a walk over the hull from c->last_ghost, or
- * UINT32_MAX (serial only); the visibility walk from c->last (its tet in *found, or UINT32_MAX
+ * UINT32_MAX (in a parallel pass also when the walk meets a ghost not this thread's); the
+ * visibility walk from c->last (its tet in *found, or UINT32_MAX
  * in a parallel pass when it met a tet not this thread's or, there or with may_scan 0, ran
  * out of steps); a linear scan for a conflicting tet (the walk's fallback). */
 uint32_t km_hull_search(kctx *c, const double *p);
 gtet_status km_walk(kctx *c, const double *p, uint32_t *found, int may_scan);
 gtet_status km_scan_for_conflict(kctx *c, const double *p, uint32_t *found);
 
-/* A tet in conflict with p (*t0): over the hull first when the last insertion was outside it
- * (serial only), else by the visibility walk from c->last; *t0 = UINT32_MAX in a parallel pass
+/* A tet in conflict with p (*t0): over the hull first when the last insertion was outside it,
+ * else by the visibility walk from c->last; *t0 = UINT32_MAX in a parallel pass
  * when the walk met a tet not this thread's or ran out of steps (defer).  Inlined into
  * km_insert (one call a point less). */
 static inline gtet_status km_find_conflict(kctx *c, const double *p, uint32_t *t0)
 {
-    if (__builtin_expect(c->last_ghost != UINT32_MAX, 0) && !c->colour) {
+    if (__builtin_expect(c->last_ghost != UINT32_MAX, 0)) {
         *t0 = km_hull_search(c, p);
         c->last_ghost = UINT32_MAX;
         if (*t0 != UINT32_MAX) return GTET_OK;

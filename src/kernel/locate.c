@@ -135,9 +135,12 @@ uint32_t km_locate(kctx *c, const double *p)
  * no edge is to be crossed, the ghost is tested.  The directions are plain double arithmetic
  * and o may be outside the hull while it is small or when the surface is not closed: the walk
  * only proposes a ghost, which is tested exactly (a miss falls back to the visibility walk,
- * which crosses the slivers under a convex surface: 70 steps a point on the 1M paraboloid,
- * 41 with E32's breadth-first search of 8 ghosts, 3.5 with this walk; NOTES.md E60).
- * Serial only: a parallel pass must not test tets it does not own. */
+ * which crosses the slivers under a convex surface; NOTES.md E60).
+ * In a parallel pass (proofs/parallel.md R1, O13) c->last_ghost was made by this thread's
+ * previous insertion in the same pass (insert_slice clears it at the pass's start), so it is
+ * live and this thread's; each step reads tv of the next ghost, which is adjacent to the
+ * current, owned one, and goes on only if that ghost is this thread's too; else the search
+ * gives up and the visibility walk (which defers) takes over. */
 #define KM_HULL_STEPS 32
 
 /* The sign of orient3d(a, b, o, p) (det[b-a; o-a; p-a], pred.h's convention) in plain
@@ -155,7 +158,10 @@ uint32_t km_hull_search(kctx *c, const double *p)
 {
     const kmesh *m = c->m;
     uint32_t g = c->last_ghost;
-    if (g >= m->nt || km_dead(m, g) || !km_is_ghost(m, g)) return UINT32_MAX;
+    size_t nt_now;  /* bumped by other threads' atomic captures in a parallel pass */
+#pragma omp atomic read
+    nt_now = m->nt;
+    if (g >= nt_now || km_dead(m, g) || !km_is_ghost(m, g)) return UINT32_MAX;
     const double o[3] = {0.5 * (m->box[0] + m->box[3]), 0.5 * (m->box[1] + m->box[4]),
                          0.5 * (m->box[2] + m->box[5])};
     uint32_t entry = UINT32_MAX;  /* handle 4g+i of the edge we came in through */
@@ -170,6 +176,7 @@ uint32_t km_hull_search(kctx *c, const double *p)
             if (orient_approx(km_pt(m, v[(i + 1) % 3]), km_pt(m, v[(i + 2) % 3]), o, p) < 0) {
                 entry = m->tn[h];
                 g = entry >> 2;
+                if (c->colour && !km_owned(c, g)) return UINT32_MAX;  /* R1: tv only */
                 moved = 1;
                 break;
             }

@@ -330,6 +330,7 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
                                                                : GIVE_UP_MIN;
     size_t nd = 0, tried = 0;
     int give_up = 0;
+    c->last_ghost = UINT32_MAX;  /* O13: a hull search starts only from this pass's own ghost */
     for (size_t i = b; i < e; i++) {
         int deferred = 1;
         gtet_status s = GTET_OK;
