@@ -217,28 +217,37 @@ static gtet_status check_distinct(chk_ctx *c, vkey *keys, const uint8_t *used, s
     return GTET_OK;
 }
 
-/* Input point i (p) is not a vertex.  When a vertex lies within 1e-5 of it, relative to its
- * largest coordinate, the mesh writer most likely rounded the coordinates (meshio's ASCII
- * .vtu keeps 12 digits, many tools %g's 6): the message names that vertex and says so, instead
- * of leaving the user to think a vertex is missing (NOTES.md E157).  A linear scan, on failure
- * only. */
+int chk_rounded_match(const void *pts, size_t stride, size_t n, const double p[3], size_t *best,
+                      double *rel)
+{
+    size_t b = SIZE_MAX;
+    double bd = INFINITY;
+    for (size_t k = 0; k < n; k++) {
+        const double *x = (const double *)(const void *)((const char *)pts + k * stride);
+        const double d = fmax(fabs(x[0] - p[0]), fmax(fabs(x[1] - p[1]), fabs(x[2] - p[2])));
+        if (d < bd) bd = d, b = k;
+    }
+    const double scale = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
+    if (b == SIZE_MAX || !(bd <= 1e-5 * scale)) return 0;
+    *best = b;
+    *rel = bd / scale;
+    return 1;
+}
+
+/* Input point i (p) is not a vertex.  When a vertex lies within rounding of it
+ * (chk_rounded_match), the message names that vertex and says so, instead of leaving the user
+ * to think a vertex is missing (NOTES.md E157). */
 static gtet_status missing_input(chk_ctx *c, const vkey *keys, size_t nk, size_t i, const double *p)
 {
-    size_t best = SIZE_MAX;
-    double bd = INFINITY;
-    for (size_t k = 0; k < nk; k++) {
-        double d = 0;
-        for (int a = 0; a < 3; a++) d = fmax(d, fabs(keys[k].x[a] - p[a]));
-        if (d < bd) bd = d, best = k;
-    }
-    double scale = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
-    if (best != SIZE_MAX && bd <= 1e-5 * scale) {
+    size_t best;
+    double rel;
+    if (chk_rounded_match(keys, sizeof *keys, nk, p, &best, &rel)) {
         const double *q = keys[best].x;
         return chk_fail(c, "input point %zu (%.17g, %.17g, %.17g) is not a vertex of the mesh; "
                         "vertex %u (%.17g, %.17g, %.17g) is off by a relative %.1e: were the "
                         "coordinates rounded when the mesh was written? (17 significant digits "
                         "keep them exact)", i, p[0], p[1], p[2], keys[best].id, q[0], q[1], q[2],
-                        bd / scale);
+                        rel);
     }
     return chk_fail(c, "input point %zu (%.17g, %.17g, %.17g) is not a vertex of the mesh", i,
                     p[0], p[1], p[2]);

@@ -92,6 +92,16 @@ gtet_status chk_check_arrays(const double *vertices, size_t nv, const uint32_t *
                              unsigned flags, gtet_check_report *report, uint32_t **cell,
                              uint8_t **cell_hull);
 
+/* The point of pts (n points `stride` bytes apart, each starting with its three doubles)
+ * nearest to p in the max norm, when it lies within 1e-5 of p relative to p's largest
+ * coordinate: a mesh writer that rounded the coordinates (meshio's ASCII .vtu keeps 12
+ * digits, Gmsh's ASCII MSH %.16g) moved the point by about that much, and the messages of
+ * check (NOTES.md E157) and diff (E181) say so.  Its index in *best and the distance relative
+ * to p's largest coordinate in *rel; 0 when no point is that near.  A linear scan: for a
+ * failure's message only (check.c). */
+int chk_rounded_match(const void *pts, size_t stride, size_t n, const double p[3], size_t *best,
+                      double *rel);
+
 /* The whole checker on a filled context (inputs set, built fields zero); frees what it builds
  * except cell[] and cell_hull[] (the caller's, when want_cells; freed on failure). */
 gtet_status chk_run(chk_ctx *c);

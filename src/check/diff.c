@@ -115,11 +115,9 @@ static gtet_status common_ids(side *a, side *b, gtet_diff_report *r, int *first_
     return GTET_OK;
 }
 
-/* The point of the other mesh nearest (max norm) to the first point in one mesh only, when
- * it lies within 1e-5 of it relative to its largest coordinate: the meshes' writers most
- * likely rounded the coordinates differently (meshio's ASCII .vtu keeps 12 digits, Gmsh's
- * ASCII MSH %.16g), and the verdict says so, as the checker's message does for an input point
- * (NOTES.md E157, E181).  A linear scan, for this verdict only. */
+/* The point of the other mesh within rounding (chk_rounded_match) of the first point in one
+ * mesh only: the meshes' writers most likely rounded the coordinates differently, and the
+ * verdict says so, as the checker's message does for an input point (NOTES.md E157, E181). */
 typedef struct near_point {
     int side;      /* the mesh of r->first_point_only: 0 = A, 1 = B */
     int found;     /* q, a point of the other mesh, is within the bound */
@@ -129,19 +127,9 @@ typedef struct near_point {
 
 static void nearest_other(const side *other, const double p[3], near_point *np)
 {
-    size_t best = SIZE_MAX;
-    double bd = INFINITY;
-    for (size_t i = 0; i < other->nv; i++) {
-        const double *x = other->v + 3 * i;
-        double d = fmax(fabs(x[0] - p[0]), fmax(fabs(x[1] - p[1]), fabs(x[2] - p[2])));
-        if (d < bd) bd = d, best = i;
-    }
-    double scale = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
-    np->found = best != SIZE_MAX && bd <= 1e-5 * scale;
-    if (np->found) {
-        memcpy(np->q, other->v + 3 * best, sizeof np->q);
-        np->rel = bd / scale;
-    }
+    size_t best;
+    np->found = chk_rounded_match(other->v, 3 * sizeof *other->v, other->nv, p, &best, &np->rel);
+    if (np->found) memcpy(np->q, other->v + 3 * best, sizeof np->q);
 }
 
 static void sort4(uint32_t v[4])
