@@ -123,7 +123,7 @@ static uint64_t degen_bytes(uint64_t n, int threads, const gtet_options *o)
 void mem_estimate_run(size_t n_in, int threads, const gtet_options *opts, mem_estimate *e)
 {
     const uint64_t n = n_in;
-    const int T = threads < 1 ? 1 : threads > 255 ? 255 : threads;  /* the kernel's most: E159c */
+    const int T = threads < 1 ? 1 : threads > BASE_MAX_THREADS ? BASE_MAX_THREADS : threads;
     const uint64_t base = mul10(n, 10 * (MEM_PT_RESULT + MEM_PT_ORDER));
     const uint64_t dedup = mul10(n, 10 * (MEM_PT_RESULT + MEM_PT_DEDUP));
     const uint64_t sort = add(base, mul10(n, 10 * MEM_PT_SORT));

@@ -116,10 +116,9 @@ static gtet_status prepare(run *r, gtet_mesh **out)
     }
     r->t_start = omp_get_wtime();
     r->threads = r->opts.threads ? r->opts.threads : omp_get_max_threads();
-    /* the kernel runs at most 255 (its colours are bytes, build.c): so do validate and sort, and
-     * the memory guard counts no more (NOTES.md E159c: threads = 100000 was refused as needing
-     * 97.7 GiB for 100 points, 5000 spawned 5000 threads in each OpenMP stage) */
-    if (r->threads > 255) r->threads = 255;
+    /* so do validate and sort (NOTES.md E159c: threads = 100000 was refused as needing 97.7 GiB
+     * for 100 points, 5000 spawned 5000 threads in each OpenMP stage) */
+    if (r->threads > BASE_MAX_THREADS) r->threads = BASE_MAX_THREADS;
     r->threads = base_team_size(r->threads);  /* what OpenMP will give (NOTES.md E184) */
     /* as many threads as the system lets the process start now: libgomp ends the process when
      * it cannot start a region's threads (ulimit -u, pids.max), and the tets do not depend on

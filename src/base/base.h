@@ -70,6 +70,10 @@ void *base_alloc_big(size_t bytes);
  * the pages are mapped, -1 when the system cannot do it (nothing changed). */
 int base_populate(void *p, size_t bytes);
 
+/* The most threads a run uses: the kernel's colours are bytes (build.c, proofs/parallel.md),
+ * and validate, sort and the memory guard count no more (NOTES.md E159c). */
+#define BASE_MAX_THREADS 255
+
 /* How many threads, the calling one included, of `want` (>= 1) this process can run at once
  * now: it starts want - 1 threads that wait until all are started, then ends and joins them
  * (threads.c).  want when all started; else 1 + those started, with pthread_create's error

@@ -358,7 +358,7 @@ static int tri_kernel(const tri_args *a, double **xyz, size_t n, gtet_mesh **mes
          * (NOTES.md E183, E184): say so when that is fewer than -t asked for */
         gtet_stats st;
         gtet_mesh_stats(*mesh, &st);
-        const int asked = a->threads > 255 ? 255 : (int)a->threads;
+        const int asked = a->threads > BASE_MAX_THREADS ? BASE_MAX_THREADS : (int)a->threads;
         if (!a->quiet && asked > 1 && st.threads < asked)
             cli_error("warning: ran on %d of the %d threads asked for (no more could be "
                       "started or OpenMP would give no more: ulimit -u, memory for their "

@@ -169,7 +169,7 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
      * (kmesh.c first_arrays).  The pages never touched stay unmapped. */
     size_t hint = 7 * nv + 64;
     if (threads > 1)
-        hint = 8 * nv + 64 + (size_t)(threads < 255 ? threads : 255) * 2 * KM_SLOT_BLOCK;
+        hint = 8 * nv + 64 + (size_t)(threads < BASE_MAX_THREADS ? threads : BASE_MAX_THREADS) * 2 * KM_SLOT_BLOCK;
     if (hint > KM_MAX_SLOTS) {
         if (nv > KM_MAX_SLOTS / 7) {
             base_error(err, GTET_ERR_TOO_LARGE, SIZE_MAX, -1,
@@ -199,7 +199,7 @@ static gtet_status kbuild_start(kbuild *b, gtet_error *err)
     if (nv >= KBUILD_HOLD_ONCE_MIN) prefault_slots(&b->m, nv, threads);
     b->m.grow_guard = in->grow_guard;
     b->m.grow_user = in->grow_user;
-    if (b->threads > 255) b->threads = 255;
+    if (b->threads > BASE_MAX_THREADS) b->threads = BASE_MAX_THREADS;
     s = alloc_contexts(b);
     if (s != GTET_OK) return s;
     s = kpar_init(&b->P, &b->m, b->ctx, b->threads, b->keys, in->key_bits);

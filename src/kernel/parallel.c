@@ -122,7 +122,7 @@ gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys,
         P->keys = base_alloc_big((m->nv ? m->nv : 1) * sizeof *P->keys);
     }
     P->skeys = base_alloc_big((m->nv ? m->nv : 1) * sizeof *P->skeys);
-    const size_t nth = (size_t)(threads < 1 ? 1 : threads > 255 ? 255 : threads);
+    const size_t nth = (size_t)(threads < 1 ? 1 : threads > BASE_MAX_THREADS ? BASE_MAX_THREADS : threads);
     P->runs.cap = RUNS_PER_SLICE;
     P->runs.at = malloc(nth * RUNS_PER_SLICE * sizeof *P->runs.at);
     P->run_tet = malloc(nth * RUNS_PER_SLICE * sizeof *P->run_tet);
@@ -420,7 +420,7 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
     memset(rs, 0, sizeof *rs);
     rs->points = np;
     int nth = P->threads;
-    if (nth > 255) nth = 255;
+    if (nth > BASE_MAX_THREADS) nth = BASE_MAX_THREADS;
     unsigned pass = 0;
     size_t nmesh = 0;  /* after this round the mesh holds the vertices 0..nmesh-1 */
 #pragma omp parallel for num_threads(nth) schedule(static) reduction(max : nmesh) \
