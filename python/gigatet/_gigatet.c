@@ -31,6 +31,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/base.h"
 #include "gigatet.h"
 #include "io/io.h"
 #include "mesh/mesh.h"
@@ -139,6 +140,38 @@ static npy_intp *first_occurrence(const gtet_mesh *mesh, size_t n, size_t nv)
     return first;
 }
 
+/* A Mesh owning `mesh` (freed here when this fails) over the points array pts (a reference
+ * taken): the one constructor of a run's result (triangulate) and of an unpickled one
+ * (_restore, with the saved stats).  NULL with a Python error set. */
+static MeshObject *mesh_object_new(gtet_mesh *mesh, PyArrayObject *pts, double seconds,
+                                   int threads_asked, int threads, PyObject *saved_stats)
+{
+    MeshObject *m = PyObject_New(MeshObject, &MeshType);
+    if (!m) {
+        gtet_mesh_free(&mesh);
+        return NULL;
+    }
+    m->mesh = mesh;
+    Py_INCREF(pts);
+    m->points = pts;
+    m->n = PyArray_DIM(pts, 0);
+    m->nv = (npy_intp)gtet_mesh_num_vertices(mesh);
+    m->nt = (npy_intp)gtet_mesh_num_tets(mesh);
+    m->first = NULL;
+    m->seconds = seconds;
+    m->threads_asked = threads_asked;
+    m->threads = threads;
+    Py_XINCREF(saved_stats);
+    m->saved_stats = saved_stats;
+    /* a restored map was checked to be in first-occurrence order: a failure is only memory */
+    if (m->nv != m->n && !(m->first = first_occurrence(mesh, (size_t)m->n, (size_t)m->nv))) {
+        Py_DECREF(m);
+        PyErr_NoMemory();
+        return NULL;
+    }
+    return m;
+}
+
 static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw)
 {
     (void)self;
@@ -207,32 +240,10 @@ static PyObject *py_triangulate(PyObject *self, PyObject *args, PyObject *kw)
 #endif
     if (s != GTET_OK) return set_error(&err, s);
 
-    MeshObject *m = PyObject_New(MeshObject, &MeshType);
-    if (!m) {
-        gtet_mesh_free(&mesh);
-        return NULL;
-    }
-    m->mesh = mesh;
-    Py_INCREF(pts);
-    m->points = pts;
-    m->n = (npy_intp)n;
-    m->nv = (npy_intp)gtet_mesh_num_vertices(mesh);
-    m->nt = (npy_intp)gtet_mesh_num_tets(mesh);
-    m->first = NULL;
-    m->seconds = t1 - t0;
-    m->threads_asked = threads;
     gtet_stats st;
     gtet_mesh_stats(mesh, &st);
-    m->threads = st.threads > 0 ? st.threads : 1;
-    m->saved_stats = NULL;
-    if ((size_t)m->nv != n) {
-        m->first = first_occurrence(mesh, n, (size_t)m->nv);
-        if (!m->first) {
-            Py_DECREF(m);
-            return PyErr_NoMemory();
-        }
-    }
-    return (PyObject *)m;
+    return (PyObject *)mesh_object_new(mesh, pts, t1 - t0, threads,
+                                       st.threads > 0 ? st.threads : 1, NULL);
 }
 
 static void mesh_dealloc(MeshObject *m)
@@ -937,29 +948,10 @@ static PyObject *py_restore(PyObject *self, PyObject *args)
         PyErr_Format(PyExc_ValueError, "gigatet: not a saved gigatet mesh: %s", msg);
         goto done;
     }
-    m = PyObject_New(MeshObject, &MeshType);
-    if (!m) {
-        gtet_mesh_free(&mesh);
-        goto done;
-    }
-    m->mesh = mesh;
-    Py_INCREF(pts);
-    m->points = pts;
-    m->n = (npy_intp)n;
-    m->nv = PyArray_DIM(v, 0);
-    m->nt = (npy_intp)nt;
-    m->first = NULL;
     PyObject *secs = PyDict_GetItemString(stats, "seconds");  /* borrowed */
     PyObject *kernel = secs && PyDict_Check(secs) ? PyDict_GetItemString(secs, "kernel") : NULL;
-    m->seconds = kernel && PyFloat_Check(kernel) ? PyFloat_AS_DOUBLE(kernel) : 0.0;
-    m->threads_asked = threads_asked;
-    m->threads = threads > 0 && threads <= 255 ? threads : 1;
-    Py_INCREF(stats);
-    m->saved_stats = stats;
-    if ((size_t)m->nv != n && !(m->first = first_occurrence(mesh, n, (size_t)m->nv))) {
-        Py_CLEAR(m);  /* the map was checked to be in first-occurrence order: only memory */
-        PyErr_NoMemory();
-    }
+    m = mesh_object_new(mesh, pts, kernel && PyFloat_Check(kernel) ? PyFloat_AS_DOUBLE(kernel) : 0.0,
+                        threads_asked, threads > 0 && threads <= BASE_MAX_THREADS ? threads : 1, stats);
 done:
     Py_XDECREF(pts);
     Py_XDECREF(v);
