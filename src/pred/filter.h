@@ -311,49 +311,58 @@ static inline double pred_insphere_det_packed_(const double *a, const double *b,
     return pred_insphere_lanes_(a, b, c, d, e, &L);
 }
 
-/* The static test failed: the rest of pred_insphere_filter (from `if (seps == 0)` on), the
- * same statements on the same values (handed over from the lanes), so that an undecided call
- * does not pay for a second evaluation (the sphere and the paraboloid, where the static
- * bound rarely decides).  tests/test_pred_packed_filter.c compares the records byte for byte.
+/* The static test failed: the rest of pred_insphere_filter (from `if (seps == 0)` on) on the
+ * lanes' values, so that an undecided call does not pay for a second evaluation (the sphere,
+ * the paraboloid and surface samples, where the static bound often fails).  The same values
+ * as the scalar text: X, Y, Z, lo and M are maxima and minima of absolute values, which are
+ * exact, so their grouping does not matter as long as no translation is NaN (a tuple of
+ * finite points has none: a difference of finite doubles is finite or infinite); the
+ * absolute values are taken by clearing the sign bit (andpd, as fabs does) and the maxima by
+ * maxpd, which returns the larger of two non-NaN values, either one when they are equal (the
+ * same bits: no -0.0 is left).  eps is the scalar product chain in the FIXED order.  The
+ * minors are stored only for an undecided record.  tests/test_pred_packed_filter.c compares
+ * the answers and the records byte for byte with the scalar filter's.
  * Repeated rather than shared with pred_insphere_filter: proofs/check builds the Gappa model
  * of the certified bound from that function's own text, which a helper would take apart. */
+static inline void pred_insphere_packed_keep_(const pred_is_lanes_ *L, double *minors,
+                                              double det, double xyzmm)
+{
+    double t[4];
+    _mm_storeu_pd(t, L->abc_cda);
+    _mm_storeu_pd(t + 2, L->bcd_dab);
+    pred_insphere_keep_(minors, t[0], t[2], t[1], t[3], det, xyzmm);
+}
+
 static inline int pred_insphere_packed_rest_(const pred_is_lanes_ *L, double det, double seps,
                                              double *minors)
 {
-    double t[16];
-    _mm_storeu_pd(t, L->A);
-    _mm_storeu_pd(t + 2, L->B);
-    _mm_storeu_pd(t + 4, L->C);
-    _mm_storeu_pd(t + 6, L->D);
-    _mm_storeu_pd(t + 8, L->Z1);
-    _mm_storeu_pd(t + 10, L->Z2);
-    _mm_storeu_pd(t + 12, L->abc_cda);
-    _mm_storeu_pd(t + 14, L->bcd_dab);
-    const double ax = t[0], ay = t[1], bx = t[2], by = t[3], cx = t[4], cy = t[5];
-    const double dx = t[6], dy = t[7], az = t[8], bz = t[9], cz = t[10], dz = t[11];
-    const double abc = t[12], cda = t[13], bcd = t[14], dab = t[15];
     if (seps == 0) {
         if (minors) {
-            minors[0] = abc;
-            minors[1] = bcd;
-            minors[2] = cda;
-            minors[3] = dab;
+            double t[4];
+            _mm_storeu_pd(t, L->abc_cda);
+            _mm_storeu_pd(t + 2, L->bcd_dab);
+            minors[0] = t[0];  /* abc */
+            minors[1] = t[2];  /* bcd */
+            minors[2] = t[1];  /* cda */
+            minors[3] = t[3];  /* dab */
         }
         return 0;
     }
-    const double X = pred_max_(pred_max_(pred_fabs_(ax), pred_fabs_(bx)),
-                               pred_max_(pred_fabs_(cx), pred_fabs_(dx)));
-    const double Y = pred_max_(pred_max_(pred_fabs_(ay), pred_fabs_(by)),
-                               pred_max_(pred_fabs_(cy), pred_fabs_(dy)));
-    const double Z = pred_max_(pred_max_(pred_fabs_(az), pred_fabs_(bz)),
-                               pred_max_(pred_fabs_(cz), pred_fabs_(dz)));
+    const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+    const __m128d XY = _mm_max_pd(_mm_max_pd(_mm_and_pd(L->A, mag), _mm_and_pd(L->B, mag)),
+                                  _mm_max_pd(_mm_and_pd(L->C, mag), _mm_and_pd(L->D, mag)));
+    const __m128d Zs = _mm_max_pd(_mm_and_pd(L->Z1, mag), _mm_and_pd(L->Z2, mag));
+    const double X = _mm_cvtsd_f64(XY), Y = _mm_cvtsd_f64(_mm_unpackhi_pd(XY, XY));
+    const double Z = _mm_cvtsd_f64(_mm_max_sd(Zs, _mm_unpackhi_pd(Zs, Zs)));
     const double lo = pred_min_(pred_min_(X, Y), Z);
     const double M = pred_max_(pred_max_(X, Y), Z);
-    if (!(lo >= PRED_IS_LO && M <= PRED_IS_HI))
-        return minors ? pred_insphere_keep_(minors, abc, bcd, cda, dab, det, __builtin_inf()) : 0;
+    if (!(lo >= PRED_IS_LO && M <= PRED_IS_HI)) {
+        if (minors) pred_insphere_packed_keep_(L, minors, det, __builtin_inf());
+        return 0;
+    }
     const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
     if (minors && !(det > eps) && !(det < -eps))
-        pred_insphere_keep_(minors, abc, bcd, cda, dab, det, (((X * Y) * Z) * M) * M);
+        pred_insphere_packed_keep_(L, minors, det, (((X * Y) * Z) * M) * M);
     return (det > eps) - (det < -eps);
 }
 
