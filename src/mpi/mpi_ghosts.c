@@ -13,9 +13,13 @@
 /* the local set S and its triangulation                                                      */
 /* ------------------------------------------------------------------------------------------ */
 
-/* add a point of rank `owner` to S unless present; returns 1 added, 0 present, -1 OOM */
+/* add a point of rank `owner` to S unless present; returns 1 added, 0 present, -1 OOM.
+ * The tiles are disjoint and every point of this tile is in S from the seeding on
+ * (mx_step_seed, which adds them directly), so a point of this rank is present and only the
+ * other tiles' points go through R->have: a set of the ghosts, not of all of S */
 static int s_add(run *R, const mpt *p, int owner)
 {
+    if (owner == R->c.rank) return 0;
     int a = mx_hs_add(&R->have, p->id);
     if (a <= 0) return a;
     if (R->ns == R->scap) {
@@ -162,9 +166,10 @@ gtet_status mx_step_seed(run *R, double layer)
                                                       "out of memory");
     R->layer = layer;
     if (s == GTET_OK && R->m) {
-        /* room for the tile and a ghost layer up front: no rehashing, fewer page faults */
+        /* room for the tile and a ghost layer up front: no rehashing, fewer page faults;
+         * the set of S's ids holds the ghosts only (s_add) */
         size_t want = R->m + R->m / 4 + 64, cap = 64;
-        while (cap < 2 * want) cap *= 2;
+        while (cap < 2 * (R->m / 4 + 64)) cap *= 2;
         mpt *sp = mx_malloc(want * sizeof *sp);
         int *so = mx_malloc(want * sizeof *so);
         if (!sp || !so || mx_hs_grow(&R->have, cap) != 0) {
@@ -179,10 +184,13 @@ gtet_status mx_step_seed(run *R, double layer)
     }
     if (s == GTET_OK) s = mx_grid_build(R);   /* reorders the tile: before S takes it */
     if (s == GTET_OK) s = mx_grid_far(R);
-    if (s == GTET_OK)
-        for (size_t i = 0; i < R->m && s == GTET_OK; i++)
-            if (s_add(R, &R->tile[i], me) < 0)
-                s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if (s == GTET_OK && R->m) {   /* the tile, distinct (D1): S's first m points */
+        for (size_t i = 0; i < R->m; i++) {
+            R->sp[i] = R->tile[i];
+            R->sown[i] = me;
+        }
+        R->ns = R->m;
+    }
     if (s == GTET_OK && R->m) {
         /* the layer: `layer` times the tile's mean spacing; every rank computes the same
          * width from the gathered box and count (layer_width), so a receiver knows exactly

@@ -147,7 +147,7 @@ typedef struct run {
     mpt *sp;
     int *sown;
     size_t ns, scap;
-    hset have;                  /* vertex ids in S */
+    hset have;                  /* vertex ids of S's ghosts (S's tile points: s_add) */
     hset sent;                  /* tile index * P + rank: sent to that rank */
     grid gr;
     gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
