@@ -172,7 +172,8 @@ gtet_status mx_step_seed(run *R, double layer)
         while (cap < 2 * (R->m / 4 + 64)) cap *= 2;
         mpt *sp = mx_malloc(want * sizeof *sp);
         int *so = mx_malloc(want * sizeof *so);
-        if (!sp || !so || mx_hs_grow(&R->have, cap) != 0) {
+        R->sent_any = mx_calloc((R->m + 63) / 64, sizeof *R->sent_any);
+        if (!sp || !so || !R->sent_any || mx_hs_grow(&R->have, cap) != 0) {
             free(sp);
             free(so);
             s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
@@ -202,7 +203,7 @@ gtet_status mx_step_seed(run *R, double layer)
                 if (q == me || R->tcount[q] == 0) continue;
                 if (mx_box_dist(R->box + 6 * q, R->tile[i].x) > delta) continue;
                 mpt *o = mx_vec_push(&out[q]);
-                if (!o || mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)P + (uint64_t)q) < 0) {
+                if (!o || mx_mark_sent(R, i, q) < 0) {
                     s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
                     break;
                 }

@@ -149,6 +149,7 @@ typedef struct run {
     size_t ns, scap;
     hset have;                  /* vertex ids of S's ghosts (S's tile points: s_add) */
     hset sent;                  /* tile index * P + rank: sent to that rank */
+    uint64_t *sent_any;         /* a bit per tile index: sent to some rank (mx_sent) */
     grid gr;
     gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
     uint32_t *ptv, *ptn;        /* ... or, once patched (mx_patch), DT(S) as 4 vertex ids and */
@@ -238,6 +239,22 @@ void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3]);
 /* later rounds: DT(S) -> DT(S u N), N = S's points from n_old on (mpi_patch.c); *done = 0
  * when the caller must triangulate from scratch */
 gtet_status mx_patch(run *R, size_t n_old, int *done);
+
+/* tile point i sent to rank `to` before?  The bit of R->sent_any first: the answers ask this of
+ * every point their filters pass (a sheet of the tile for a hull facet), and most tile points
+ * were never sent anywhere, so the hash set is probed only for the few that were */
+static inline int mx_sent(const run *R, size_t i, int to)
+{
+    if (!(R->sent_any[i >> 6] >> (i & 63) & 1)) return 0;
+    return mx_hs_has(&R->sent, (uint64_t)i * (uint64_t)R->c.size + (uint64_t)to);
+}
+
+/* mark tile point i sent to rank `to`: 1 newly, 0 before, -1 out of memory */
+static inline int mx_mark_sent(run *R, size_t i, int to)
+{
+    R->sent_any[i >> 6] |= (uint64_t)1 << (i & 63);
+    return mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)R->c.size + (uint64_t)to);
+}
 
 /* the current local triangulation, patched or not (nothing: *nt = 0, NULL arrays) */
 static inline void mx_local_mesh(const run *R, size_t *nt, const uint32_t **tv,

@@ -176,6 +176,8 @@ static void release_rounds(run *R)
 {
     free(R->have.k);
     free(R->sent.k);
+    free(R->sent_any);
+    R->sent_any = NULL;
     memset(&R->have, 0, sizeof R->have);
     memset(&R->sent, 0, sizeof R->sent);
     free(R->gr.start);

@@ -460,7 +460,7 @@ static gtet_status near_hull(run *R, int to, vec *out, size_t n0)
     for (size_t i = n0; i < out->n; i++) {
         if (!(mx_box_dist(box, o[i].x) <= lim)) continue;
         uint64_t idx = o[i].id;
-        if (mx_hs_add(&R->sent, idx * (uint64_t)R->c.size + (uint64_t)to) < 0)
+        if (mx_mark_sent(R, idx, to) < 0)
             return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
         o[w] = R->tile[idx];
         w++;
@@ -475,7 +475,6 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
 {
     grid *G = &R->gr;
     size_t m = R->m;
-    int P = R->c.size;
     if (m == 0) return GTET_OK;
     int hull = Q->id[3] == NOID;
     size_t n0 = out->n;
@@ -539,11 +538,11 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                 /* a point sent to `to` before is not answered whether or not it
                                  * conflicts: asked after the floating filter, before the exact
                                  * predicate */
-                                uint64_t key = (uint64_t)G->idx[j] * (uint64_t)P + (uint64_t)to;
+                                size_t ti = G->idx[j];
                                 if (hull) {
                                     /* the block filter's test, point by point (D4) */
                                     if (!H.all && !hspace_may_reach(&H, p->x)) continue;
-                                    if (mx_hs_has(&R->sent, key)) continue;
+                                    if (mx_sent(R, ti, to)) continue;
                                     conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2],
                                                                    p->x) > 0;
                                 } else {
@@ -554,7 +553,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                             B.r * (1 + 1e-9))
                                             continue;
                                     }
-                                    if (mx_hs_has(&R->sent, key)) continue;
+                                    if (mx_sent(R, ti, to)) continue;
                                     conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2],
                                                                  Q->p[3], p->x) > 0;
                                 }
@@ -567,7 +566,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                     o->id = G->idx[j];   /* the tile index until near_hull */
                                     continue;
                                 }
-                                if (mx_hs_add(&R->sent, key) < 0)
+                                if (mx_mark_sent(R, ti, to) < 0)
                                     return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                    "out of memory");
                                 mpt *o = mx_vec_push(out);

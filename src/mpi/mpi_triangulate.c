@@ -59,6 +59,7 @@ static void run_free(run *R)
     free(R->sown);
     free(R->have.k);
     free(R->sent.k);
+    free(R->sent_any);
     free(R->gr.start);
     free(R->gr.idx);
     free(R->gr.cb);
