@@ -51,6 +51,10 @@ static int sort_by_id(mpt *a, size_t n)
 
 #define NOLID UINT32_MAX
 
+/* the tet loops below read vid[] (by vertex) and lid[] (by neighbour) at random, a cache miss
+ * each on a big mesh: the rows OPF tets ahead are asked for while the current one is worked on */
+#define OPF 16
+
 /* Step 7 writes its result over the local mesh (NOTES.md E120, E130).  The owned tets' rows
  * are first moved down in place in both uint32 arrays (row o of owned tet t, o <= t: a row is
  * read before any later row lands on it): vertex ids stay local, a neighbour becomes its owned
@@ -116,6 +120,10 @@ static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, u
     const unsigned char *s = src;
     for (size_t k = 4 * own; k-- > 0;) {
         uint32_t x;
+        if (vid && k >= 4 * OPF) {   /* below every byte written yet (8k > 4k) */
+            memcpy(&x, s + 4 * (k - 4 * OPF), sizeof x);
+            __builtin_prefetch(vid + x);
+        }
         memcpy(&x, s + 4 * k, sizeof x);
         uint64_t y = vid ? vid[x] : x == NOLID ? GTET_MPI_NO_TET : off + x;
         memcpy(d + 8 * k, &y, sizeof y);
@@ -346,6 +354,8 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     if (s == GTET_OK)
         for (size_t t = 0; t < nt; t++) {
             const uint32_t *v = tv + 4 * t;
+            if (t + OPF < nt)
+                for (int i = 0; i < 4; i++) __builtin_prefetch(vid + v[4 * OPF + i]);
             uint32_t lo = v[0];
             for (int i = 1; i < 4; i++)
                 if (vid[v[i]] < vid[lo]) lo = v[i];
@@ -360,9 +370,15 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     res->tet_offset = res->tet_offsets[me];
     res->num_tets_global = res->tet_offsets[P];
     res->num_tets = own;
-    for (size_t t = 0; t < nt && s == GTET_OK; t++)
+    for (size_t t = 0; t < nt && s == GTET_OK; t++) {
+        if (t + OPF < nt)   /* row t + OPF is not compacted over yet (o <= t) */
+            for (int f = 0; f < 4; f++) {
+                uint32_t u = nb[4 * (t + OPF) + (size_t)f];
+                if (u < nt) __builtin_prefetch(X.lid + u);
+            }
         if (X.lid[t] != NOLID && compact_tet(R, &X, tv, nb, t, res->tet_offset) != 0)
             s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    }
     free(X.lid);
     X.lid = NULL;
     /* the result over the local mesh's arrays, before the matching allocates anything that
