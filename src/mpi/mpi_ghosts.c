@@ -183,13 +183,11 @@ gtet_status mx_step_seed(run *R, double layer)
             R->scap = want;
         }
     }
-    if (s == GTET_OK) s = mx_grid_build(R);   /* reorders the tile: before S takes it */
+    /* the tile, distinct (D1), in the grid's cell order: S's first m points */
+    if (s == GTET_OK) s = mx_grid_build(R);
     if (s == GTET_OK) s = mx_grid_far(R);
-    if (s == GTET_OK && R->m) {   /* the tile, distinct (D1): S's first m points */
-        for (size_t i = 0; i < R->m; i++) {
-            R->sp[i] = R->tile[i];
-            R->sown[i] = me;
-        }
+    if (s == GTET_OK && R->m) {
+        for (size_t i = 0; i < R->m; i++) R->sown[i] = me;
         R->ns = R->m;
     }
     if (s == GTET_OK && R->m) {
@@ -201,13 +199,13 @@ gtet_status mx_step_seed(run *R, double layer)
         for (size_t i = 0; i < R->m && s == GTET_OK; i++)
             for (int q = 0; q < P; q++) {
                 if (q == me || R->tcount[q] == 0) continue;
-                if (mx_box_dist(R->box + 6 * q, R->tile[i].x) > delta) continue;
+                if (mx_box_dist(R->box + 6 * q, R->sp[i].x) > delta) continue;
                 mpt *o = mx_vec_push(&out[q]);
                 if (!o || mx_mark_sent(R, i, q) < 0) {
                     s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
                     break;
                 }
-                *o = R->tile[i];
+                *o = R->sp[i];
             }
     }
     if ((s = mx_agree(&R->c, s)) != GTET_OK) {

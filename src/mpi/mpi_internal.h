@@ -112,7 +112,7 @@ typedef struct grid {
     int g[3];
     int b[3];                   /* blocks of GB^3 cells, for halfspace queries */
     uint32_t *start;            /* cells + 1 */
-    uint32_t *idx;              /* tile point indices by cell (the identity: R->tile is
+    uint32_t *idx;              /* tile point indices by cell (the identity: S's tile is
                                    stored in cell order) */
     float *cb;                  /* per cell: its points' bounding box lo[3], hi[3], rounded
                                    outward (a ball's answer skips the cells it misses) */
@@ -138,7 +138,7 @@ typedef struct run {
     struct kdn { int axis, left, right, leaf; double split; } *kd;
     int nkd;
     /* tile and the tiles' boxes */
-    mpt *tile;
+    mpt *tile;                  /* from the partition until mx_grid_build moves it into S */
     size_t m;
     double *box;                /* 6 per rank: lo, hi */
     uint64_t *tcount;           /* per rank */
@@ -225,7 +225,8 @@ int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
                            const double *box);
 /* rank q's seeded layer width (mpi_ghosts.c): the same double on every rank */
 double mx_layer_width(const run *R, int q);
-/* the tile's grid of cells, R->gr; puts R->tile in cell order (before S is built from it) */
+/* the tile's grid of cells, R->gr; writes R->tile in cell order as S's first m points (R->sp,
+ * room for m) and frees R->tile */
 gtet_status mx_grid_build(run *R);
 /* R->gr.far from the tile grid and the gathered boxes (mx_grid_build's caller, D11) */
 gtet_status mx_grid_far(run *R);

@@ -306,8 +306,8 @@ static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *r
     }
     if ((s = mx_agree(c, s)) != GTET_OK) return s;
     for (size_t i = 0; i < m; i++) {
-        res->tile_vertex_ids[i] = R->tile[i].id;
-        memcpy(res->tile_vertices + 3 * i, R->tile[i].x, 3 * sizeof(double));
+        res->tile_vertex_ids[i] = R->sp[i].id;   /* S's first m points: the tile */
+        memcpy(res->tile_vertices + 3 * i, R->sp[i].x, 3 * sizeof(double));
     }
     size_t w = 0;
     for (size_t i = 0; i < R->ns; i++)

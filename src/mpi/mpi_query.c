@@ -149,7 +149,7 @@ static gtet_status cell_boxes(run *R, size_t cells)
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++)
             for (int k = 0; k < 3; k++) {
-                double x = R->tile[j].x[k];
+                double x = R->sp[j].x[k];
                 lo[k] = x < lo[k] ? x : lo[k];
                 hi[k] = x > hi[k] ? x : hi[k];
             }
@@ -167,6 +167,8 @@ gtet_status mx_grid_build(run *R)
     grid *G = &R->gr;
     size_t m = R->m;
     if (m == 0) return GTET_OK;
+    if (R->scap < m) return mx_fail(&R->c, GTET_ERR_INTERNAL, "rank %d: no room for the tile in S",
+                                    R->c.rank);
     const double *box = R->box + 6 * R->c.rank;
     double e[3], vol = 1, emax = 0;
     for (int k = 0; k < 3; k++) {
@@ -204,17 +206,14 @@ gtet_status mx_grid_build(run *R)
         G->start[ci + 1]++;
     }
     for (size_t ci = 0; ci < cells; ci++) G->start[ci + 1] += G->start[ci];
-    /* the tile itself in cell order (idx the identity): answers scan a cell's points in
-     * memory order instead of 32 B records at random (the answers' largest cost before) */
-    mpt *cell_order = mx_malloc(m * sizeof *cell_order);
-    if (!cell_order) {
-        free(cid);
-        return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
-    }
-    for (size_t i = 0; i < m; i++) cell_order[G->start[cid[i]]++] = R->tile[i];
+    /* the tile itself in cell order (idx the identity), written as S's first m points: answers
+     * scan a cell's points in memory order instead of 32 B records at random (the answers'
+     * largest cost before); S holds the tile from here on, so R->tile goes (one copy of the
+     * tile in memory, not two) */
+    for (size_t i = 0; i < m; i++) R->sp[G->start[cid[i]]++] = R->tile[i];
     for (size_t i = 0; i < m; i++) G->idx[i] = (uint32_t)i;
     free(R->tile);
-    R->tile = cell_order;
+    R->tile = NULL;
     for (size_t ci = cells; ci > 0; ci--) G->start[ci] = G->start[ci - 1];
     G->start[0] = 0;
     free(cid);
@@ -462,7 +461,7 @@ static gtet_status near_hull(run *R, int to, vec *out, size_t n0)
         uint64_t idx = o[i].id;
         if (mx_mark_sent(R, idx, to) < 0)
             return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-        o[w] = R->tile[idx];
+        o[w] = R->sp[idx];
         w++;
     }
     out->n = w;
@@ -530,7 +529,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                 if (!mx_ball_meets_box(&B, cb)) continue;
                             }
                             for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) {
-                                const mpt *p = &R->tile[G->idx[j]];
+                                const mpt *p = &R->sp[G->idx[j]];
                                 if (p->id == Q->id[0] || p->id == Q->id[1] || p->id == Q->id[2] ||
                                     p->id == Q->id[3])
                                     continue;
