@@ -113,21 +113,32 @@ static int compact_tet(const run *R, outx *X, uint32_t *tv, uint32_t *nb, size_t
 /* dst[4o + i] (64-bit) from src[4o + i] (uint32), o from own - 1 down to 0: dst may be src
  * itself (32 bytes a row written at or above the 16 read; through memcpy, as the same bytes are
  * read as uint32 and written as uint64) or separate.  Vertices: their global ids; neighbours:
- * off + owned index, or GTET_MPI_NO_TET */
-static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, uint64_t off)
+ * off + owned index, or GTET_MPI_NO_TET, counted in *nolid (the hull facets' count starts
+ * there, match_facets) */
+static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, uint64_t off,
+                  uint64_t *nolid)
 {
     unsigned char *d = dst;
     const unsigned char *s = src;
+    uint64_t none = 0;
     for (size_t k = 4 * own; k-- > 0;) {
         uint32_t x;
-        if (vid && k >= 4 * OPF) {   /* below every byte written yet (8k > 4k) */
-            memcpy(&x, s + 4 * (k - 4 * OPF), sizeof x);
-            __builtin_prefetch(vid + x);
+        if (vid) {
+            if (k >= 4 * OPF) {   /* below every byte written yet (8k > 4k) */
+                memcpy(&x, s + 4 * (k - 4 * OPF), sizeof x);
+                __builtin_prefetch(vid + x);
+            }
+            memcpy(&x, s + 4 * k, sizeof x);
+            uint64_t y = vid[x];
+            memcpy(d + 8 * k, &y, sizeof y);
+        } else {
+            memcpy(&x, s + 4 * k, sizeof x);
+            none += x == NOLID;
+            uint64_t y = x == NOLID ? GTET_MPI_NO_TET : off + x;
+            memcpy(d + 8 * k, &y, sizeof y);
         }
-        memcpy(&x, s + 4 * k, sizeof x);
-        uint64_t y = vid ? vid[x] : x == NOLID ? GTET_MPI_NO_TET : off + x;
-        memcpy(d + 8 * k, &y, sizeof y);
     }
+    *nolid = none;
 }
 
 /* can block p (of the heap) grow in place to `bytes`?  With glibc: when the blocks after it are
@@ -155,13 +166,14 @@ static int can_grow(void *p, size_t bytes)
 /* one array's result: widened in place when its block has the room or can grow (can_grow),
  * else into fresh memory (huge pages: mx_malloc); *a handed over.  -1 out of memory (*a then
  * still R's) */
-static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *vid, uint64_t off)
+static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *vid, uint64_t off,
+                     uint64_t *nolid)
 {
     size_t bytes = (4 * own + 1) * sizeof(uint64_t);
     int inplace = can_grow(*a, bytes);
     uint64_t *r = inplace ? mx_realloc(*a, bytes) : mx_malloc(bytes);
     if (!r) return -1;
-    widen(r, inplace ? (void *)r : (void *)*a, own, vid, off);
+    widen(r, inplace ? (void *)r : (void *)*a, own, vid, off, nolid);
     if (!inplace) free(*a);
     *a = NULL;
     *out = r;
@@ -169,12 +181,14 @@ static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *v
 }
 
 /* the result's tets and neighbours from the compacted rows (see above); R->ptv, R->ptn are
- * handed over (NULL after).  -1 out of memory (R's arrays then still R's) */
-static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid)
+ * handed over (NULL after); *nolid: the neighbours left GTET_MPI_NO_TET.  -1 out of memory
+ * (R's arrays then still R's) */
+static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid, uint64_t *nolid)
 {
     size_t own = res->num_tets;
-    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset) != 0) return -1;
-    return widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset);
+    uint64_t unused;
+    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, nolid) != 0) return -1;
+    return widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset, &unused);
 }
 
 /* what only the rounds read (the sets of ids held and sent, the tile grid, the last round's
@@ -215,8 +229,9 @@ static void take_local(run *R, size_t *nt)
 
 /* the facets decided elsewhere (X->fr): records hashed by their key to a rank, which pairs
  * them (two records: the two tets; one: a hull facet) and answers; the answers go into
- * res->neighbors at X->slot (D7).  Collective; the agreed status */
-static gtet_status match_facets(mctx *c, const outx *X, gtet_mpi_result *res)
+ * res->neighbors at X->slot (D7).  nolid: the neighbours GTET_MPI_NO_TET before (the
+ * certified hull facets and the slots answered here).  Collective; the agreed status */
+static gtet_status match_facets(mctx *c, const outx *X, uint64_t nolid, gtet_mpi_result *res)
 {
     int P = c->size;
     size_t nr = X->fr.n, mr = 0;
@@ -268,9 +283,12 @@ static gtet_status match_facets(mctx *c, const outx *X, gtet_mpi_result *res)
         goto done;
     back = r;
     const uint64_t *sls = (const uint64_t *)X->slot.p;
-    uint64_t hull = 0, ghull = 0;
-    for (size_t k = 0; k < nr; k++) res->neighbors[sls[perm[k]]] = back[k];
-    for (size_t i = 0; i < 4 * res->num_tets; i++) hull += res->neighbors[i] == GTET_MPI_NO_TET;
+    /* the hull facets: the slots left GTET_MPI_NO_TET, less those answered with a tet */
+    uint64_t hull = nolid, ghull = 0;
+    for (size_t k = 0; k < nr; k++) {
+        res->neighbors[sls[perm[k]]] = back[k];
+        hull -= back[k] != GTET_MPI_NO_TET;
+    }
     MPI_Allreduce(&hull, &ghull, 1, MPI_UINT64_T, MPI_SUM, c->comm);
     res->num_hull_facets = ghull;
 done:
@@ -383,9 +401,10 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     X.lid = NULL;
     /* the result over the local mesh's arrays, before the matching allocates anything that
      * could take the memory the lower array grows into */
-    if (s == GTET_OK && widen_both(R, res, vid) != 0)
+    uint64_t nolid = 0;
+    if (s == GTET_OK && widen_both(R, res, vid, &nolid) != 0)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, res);
+    if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, nolid, res);
     if (s == GTET_OK) s = out_vertices(R, X.used, res);
 done:
     free(vid);
