@@ -111,9 +111,8 @@ typedef struct grid {
     double lo[3], hi[3], inv[3];
     int g[3];
     int b[3];                   /* blocks of GB^3 cells, for halfspace queries */
-    uint32_t *start;            /* cells + 1 */
-    uint32_t *idx;              /* tile point indices by cell (the identity: S's tile is
-                                   stored in cell order) */
+    uint32_t *start;            /* cells + 1: cell ci holds S's tile points start[ci] ..
+                                   start[ci + 1] - 1 (the tile is stored in cell order) */
     float *cb;                  /* per cell: its points' bounding box lo[3], hi[3], rounded
                                    outward (a ball's answer skips the cells it misses) */
     unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at

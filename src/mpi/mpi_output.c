@@ -203,10 +203,9 @@ static void release_rounds(run *R)
     memset(&R->have, 0, sizeof R->have);
     memset(&R->sent, 0, sizeof R->sent);
     free(R->gr.start);
-    free(R->gr.idx);
     free(R->gr.cb);
     free(R->gr.far);
-    R->gr.start = R->gr.idx = NULL;
+    R->gr.start = NULL;
     R->gr.cb = NULL;
     R->gr.far = NULL;
     free(R->prev);

@@ -61,7 +61,6 @@ static void run_free(run *R)
     free(R->sent.k);
     free(R->sent_any);
     free(R->gr.start);
-    free(R->gr.idx);
     free(R->gr.cb);
     free(R->gr.far);
     free(R->prev);
