@@ -13,9 +13,13 @@
 /* the local set S and its triangulation                                                      */
 /* ------------------------------------------------------------------------------------------ */
 
-/* add a point of rank `owner` to S unless present; returns 1 added, 0 present, -1 OOM */
+/* add a point of rank `owner` to S unless present; returns 1 added, 0 present, -1 OOM.
+ * The tiles are disjoint and every point of this tile is in S from the seeding on
+ * (mx_step_seed, which adds them directly), so a point of this rank is present and only the
+ * other tiles' points go through R->have: a set of the ghosts, not of all of S */
 static int s_add(run *R, const mpt *p, int owner)
 {
+    if (owner == R->c.rank) return 0;
     int a = mx_hs_add(&R->have, p->id);
     if (a <= 0) return a;
     if (R->ns == R->scap) {
@@ -162,12 +166,14 @@ gtet_status mx_step_seed(run *R, double layer)
                                                       "out of memory");
     R->layer = layer;
     if (s == GTET_OK && R->m) {
-        /* room for the tile and a ghost layer up front: no rehashing, fewer page faults */
+        /* room for the tile and a ghost layer up front: no rehashing, fewer page faults;
+         * the set of S's ids holds the ghosts only (s_add) */
         size_t want = R->m + R->m / 4 + 64, cap = 64;
-        while (cap < 2 * want) cap *= 2;
+        while (cap < 2 * (R->m / 4 + 64)) cap *= 2;
         mpt *sp = mx_malloc(want * sizeof *sp);
         int *so = mx_malloc(want * sizeof *so);
-        if (!sp || !so || mx_hs_grow(&R->have, cap) != 0) {
+        R->sent_any = mx_calloc((R->m + 63) / 64, sizeof *R->sent_any);
+        if (!sp || !so || !R->sent_any || mx_hs_grow(&R->have, cap) != 0) {
             free(sp);
             free(so);
             s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
@@ -177,12 +183,13 @@ gtet_status mx_step_seed(run *R, double layer)
             R->scap = want;
         }
     }
-    if (s == GTET_OK) s = mx_grid_build(R);   /* reorders the tile: before S takes it */
+    /* the tile, distinct (D1), in the grid's cell order: S's first m points */
+    if (s == GTET_OK) s = mx_grid_build(R);
     if (s == GTET_OK) s = mx_grid_far(R);
-    if (s == GTET_OK)
-        for (size_t i = 0; i < R->m && s == GTET_OK; i++)
-            if (s_add(R, &R->tile[i], me) < 0)
-                s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if (s == GTET_OK && R->m) {
+        for (size_t i = 0; i < R->m; i++) R->sown[i] = me;
+        R->ns = R->m;
+    }
     if (s == GTET_OK && R->m) {
         /* the layer: `layer` times the tile's mean spacing; every rank computes the same
          * width from the gathered box and count (layer_width), so a receiver knows exactly
@@ -192,13 +199,13 @@ gtet_status mx_step_seed(run *R, double layer)
         for (size_t i = 0; i < R->m && s == GTET_OK; i++)
             for (int q = 0; q < P; q++) {
                 if (q == me || R->tcount[q] == 0) continue;
-                if (mx_box_dist(R->box + 6 * q, R->tile[i].x) > delta) continue;
+                if (mx_box_dist(R->box + 6 * q, R->sp[i].x) > delta) continue;
                 mpt *o = mx_vec_push(&out[q]);
-                if (!o || mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)P + (uint64_t)q) < 0) {
+                if (!o || mx_mark_sent(R, i, q) < 0) {
                     s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
                     break;
                 }
-                *o = R->tile[i];
+                *o = R->sp[i];
             }
     }
     if ((s = mx_agree(&R->c, s)) != GTET_OK) {

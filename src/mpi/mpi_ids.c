@@ -127,22 +127,28 @@ static int hash_rank(const double *x, int P)
 /* first[k] = the record with the smallest id among those at rb[k]'s coordinates: a hash table
  * of the groups (open addressing on the coordinates' hash, a slot holds the group's
  * smallest-id record), O(m) where sorting the records was this step's largest cost; -1 out of
- * memory */
+ * memory.  A slot holds the record's index (m < 2^31: mx_exchange's limit) in its low 32 bits
+ * and the hash's high 32 bits above them, so a probe reads a record's coordinates only when
+ * the hashes agree (each read of rb is a cache miss on a big tile); empty: all ones (no index
+ * is 2^32 - 1) */
 static int first_occurrences(const mpt *rb, size_t m, size_t *first)
 {
     size_t cap = 16;
     while (cap < 2 * m) cap *= 2;
-    size_t *slot = mx_malloc(cap * sizeof *slot);
+    uint64_t *slot = mx_malloc(cap * sizeof *slot);
     if (!slot) return -1;
     memset(slot, 0xff, cap * sizeof *slot);
+    const uint64_t lo = 0xffffffffu;
     for (size_t k = 0; k < m; k++) {
-        size_t j = (size_t)hash_point(rb[k].x) & (cap - 1);
-        while (slot[j] != SIZE_MAX && point_lt(rb[slot[j]].x, rb[k].x) != 0)
+        uint64_t h = hash_point(rb[k].x), tag = h & ~lo;
+        size_t j = (size_t)h & (cap - 1);
+        while (slot[j] != UINT64_MAX &&
+               ((slot[j] & ~lo) != tag || point_lt(rb[slot[j] & lo].x, rb[k].x) != 0))
             j = (j + 1) & (cap - 1);
-        if (slot[j] == SIZE_MAX || rb[k].id < rb[slot[j]].id) slot[j] = k;
+        if (slot[j] == UINT64_MAX || rb[k].id < rb[slot[j] & lo].id) slot[j] = tag | k;
         first[k] = j;
     }
-    for (size_t k = 0; k < m; k++) first[k] = slot[first[k]];
+    for (size_t k = 0; k < m; k++) first[k] = (size_t)(slot[first[k]] & lo);
     free(slot);
     return 0;
 }

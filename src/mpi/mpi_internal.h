@@ -111,9 +111,8 @@ typedef struct grid {
     double lo[3], hi[3], inv[3];
     int g[3];
     int b[3];                   /* blocks of GB^3 cells, for halfspace queries */
-    uint32_t *start;            /* cells + 1 */
-    uint32_t *idx;              /* tile point indices by cell (the identity: R->tile is
-                                   stored in cell order) */
+    uint32_t *start;            /* cells + 1: cell ci holds S's tile points start[ci] ..
+                                   start[ci + 1] - 1 (the tile is stored in cell order) */
     float *cb;                  /* per cell: its points' bounding box lo[3], hi[3], rounded
                                    outward (a ball's answer skips the cells it misses) */
     unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at
@@ -138,7 +137,7 @@ typedef struct run {
     struct kdn { int axis, left, right, leaf; double split; } *kd;
     int nkd;
     /* tile and the tiles' boxes */
-    mpt *tile;
+    mpt *tile;                  /* from the partition until mx_grid_build moves it into S */
     size_t m;
     double *box;                /* 6 per rank: lo, hi */
     uint64_t *tcount;           /* per rank */
@@ -147,8 +146,9 @@ typedef struct run {
     mpt *sp;
     int *sown;
     size_t ns, scap;
-    hset have;                  /* vertex ids in S */
+    hset have;                  /* vertex ids of S's ghosts (S's tile points: s_add) */
     hset sent;                  /* tile index * P + rank: sent to that rank */
+    uint64_t *sent_any;         /* a bit per tile index: sent to some rank (mx_sent) */
     grid gr;
     gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
     uint32_t *ptv, *ptn;        /* ... or, once patched (mx_patch), DT(S) as 4 vertex ids and */
@@ -224,7 +224,8 @@ int mx_halfspace_meets_box(const double *a, const double *b, const double *cc,
                            const double *box);
 /* rank q's seeded layer width (mpi_ghosts.c): the same double on every rank */
 double mx_layer_width(const run *R, int q);
-/* the tile's grid of cells, R->gr; puts R->tile in cell order (before S is built from it) */
+/* the tile's grid of cells, R->gr; writes R->tile in cell order as S's first m points (R->sp,
+ * room for m) and frees R->tile */
 gtet_status mx_grid_build(run *R);
 /* R->gr.far from the tile grid and the gathered boxes (mx_grid_build's caller, D11) */
 gtet_status mx_grid_far(run *R);
@@ -238,6 +239,22 @@ void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3]);
 /* later rounds: DT(S) -> DT(S u N), N = S's points from n_old on (mpi_patch.c); *done = 0
  * when the caller must triangulate from scratch */
 gtet_status mx_patch(run *R, size_t n_old, int *done);
+
+/* tile point i sent to rank `to` before?  The bit of R->sent_any first: the answers ask this of
+ * every point their filters pass (a sheet of the tile for a hull facet), and most tile points
+ * were never sent anywhere, so the hash set is probed only for the few that were */
+static inline int mx_sent(const run *R, size_t i, int to)
+{
+    if (!(R->sent_any[i >> 6] >> (i & 63) & 1)) return 0;
+    return mx_hs_has(&R->sent, (uint64_t)i * (uint64_t)R->c.size + (uint64_t)to);
+}
+
+/* mark tile point i sent to rank `to`: 1 newly, 0 before, -1 out of memory */
+static inline int mx_mark_sent(run *R, size_t i, int to)
+{
+    R->sent_any[i >> 6] |= (uint64_t)1 << (i & 63);
+    return mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)R->c.size + (uint64_t)to);
+}
 
 /* the current local triangulation, patched or not (nothing: *nt = 0, NULL arrays) */
 static inline void mx_local_mesh(const run *R, size_t *nt, const uint32_t **tv,

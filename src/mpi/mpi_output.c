@@ -51,6 +51,10 @@ static int sort_by_id(mpt *a, size_t n)
 
 #define NOLID UINT32_MAX
 
+/* the tet loops below read vid[] (by vertex) and lid[] (by neighbour) at random, a cache miss
+ * each on a big mesh: the rows OPF tets ahead are asked for while the current one is worked on */
+#define OPF 16
+
 /* Step 7 writes its result over the local mesh (NOTES.md E120, E130).  The owned tets' rows
  * are first moved down in place in both uint32 arrays (row o of owned tet t, o <= t: a row is
  * read before any later row lands on it): vertex ids stay local, a neighbour becomes its owned
@@ -109,17 +113,32 @@ static int compact_tet(const run *R, outx *X, uint32_t *tv, uint32_t *nb, size_t
 /* dst[4o + i] (64-bit) from src[4o + i] (uint32), o from own - 1 down to 0: dst may be src
  * itself (32 bytes a row written at or above the 16 read; through memcpy, as the same bytes are
  * read as uint32 and written as uint64) or separate.  Vertices: their global ids; neighbours:
- * off + owned index, or GTET_MPI_NO_TET */
-static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, uint64_t off)
+ * off + owned index, or GTET_MPI_NO_TET, counted in *nolid (the hull facets' count starts
+ * there, match_facets) */
+static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, uint64_t off,
+                  uint64_t *nolid)
 {
     unsigned char *d = dst;
     const unsigned char *s = src;
+    uint64_t none = 0;
     for (size_t k = 4 * own; k-- > 0;) {
         uint32_t x;
-        memcpy(&x, s + 4 * k, sizeof x);
-        uint64_t y = vid ? vid[x] : x == NOLID ? GTET_MPI_NO_TET : off + x;
-        memcpy(d + 8 * k, &y, sizeof y);
+        if (vid) {
+            if (k >= 4 * OPF) {   /* below every byte written yet (8k > 4k) */
+                memcpy(&x, s + 4 * (k - 4 * OPF), sizeof x);
+                __builtin_prefetch(vid + x);
+            }
+            memcpy(&x, s + 4 * k, sizeof x);
+            uint64_t y = vid[x];
+            memcpy(d + 8 * k, &y, sizeof y);
+        } else {
+            memcpy(&x, s + 4 * k, sizeof x);
+            none += x == NOLID;
+            uint64_t y = x == NOLID ? GTET_MPI_NO_TET : off + x;
+            memcpy(d + 8 * k, &y, sizeof y);
+        }
     }
+    *nolid = none;
 }
 
 /* can block p (of the heap) grow in place to `bytes`?  With glibc: when the blocks after it are
@@ -147,13 +166,14 @@ static int can_grow(void *p, size_t bytes)
 /* one array's result: widened in place when its block has the room or can grow (can_grow),
  * else into fresh memory (huge pages: mx_malloc); *a handed over.  -1 out of memory (*a then
  * still R's) */
-static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *vid, uint64_t off)
+static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *vid, uint64_t off,
+                     uint64_t *nolid)
 {
     size_t bytes = (4 * own + 1) * sizeof(uint64_t);
     int inplace = can_grow(*a, bytes);
     uint64_t *r = inplace ? mx_realloc(*a, bytes) : mx_malloc(bytes);
     if (!r) return -1;
-    widen(r, inplace ? (void *)r : (void *)*a, own, vid, off);
+    widen(r, inplace ? (void *)r : (void *)*a, own, vid, off, nolid);
     if (!inplace) free(*a);
     *a = NULL;
     *out = r;
@@ -161,12 +181,14 @@ static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *v
 }
 
 /* the result's tets and neighbours from the compacted rows (see above); R->ptv, R->ptn are
- * handed over (NULL after).  -1 out of memory (R's arrays then still R's) */
-static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid)
+ * handed over (NULL after); *nolid: the neighbours left GTET_MPI_NO_TET.  -1 out of memory
+ * (R's arrays then still R's) */
+static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid, uint64_t *nolid)
 {
     size_t own = res->num_tets;
-    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset) != 0) return -1;
-    return widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset);
+    uint64_t unused;
+    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, nolid) != 0) return -1;
+    return widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset, &unused);
 }
 
 /* what only the rounds read (the sets of ids held and sent, the tile grid, the last round's
@@ -176,13 +198,14 @@ static void release_rounds(run *R)
 {
     free(R->have.k);
     free(R->sent.k);
+    free(R->sent_any);
+    R->sent_any = NULL;
     memset(&R->have, 0, sizeof R->have);
     memset(&R->sent, 0, sizeof R->sent);
     free(R->gr.start);
-    free(R->gr.idx);
     free(R->gr.cb);
     free(R->gr.far);
-    R->gr.start = R->gr.idx = NULL;
+    R->gr.start = NULL;
     R->gr.cb = NULL;
     R->gr.far = NULL;
     free(R->prev);
@@ -205,8 +228,9 @@ static void take_local(run *R, size_t *nt)
 
 /* the facets decided elsewhere (X->fr): records hashed by their key to a rank, which pairs
  * them (two records: the two tets; one: a hull facet) and answers; the answers go into
- * res->neighbors at X->slot (D7).  Collective; the agreed status */
-static gtet_status match_facets(mctx *c, const outx *X, gtet_mpi_result *res)
+ * res->neighbors at X->slot (D7).  nolid: the neighbours GTET_MPI_NO_TET before (the
+ * certified hull facets and the slots answered here).  Collective; the agreed status */
+static gtet_status match_facets(mctx *c, const outx *X, uint64_t nolid, gtet_mpi_result *res)
 {
     int P = c->size;
     size_t nr = X->fr.n, mr = 0;
@@ -258,9 +282,12 @@ static gtet_status match_facets(mctx *c, const outx *X, gtet_mpi_result *res)
         goto done;
     back = r;
     const uint64_t *sls = (const uint64_t *)X->slot.p;
-    uint64_t hull = 0, ghull = 0;
-    for (size_t k = 0; k < nr; k++) res->neighbors[sls[perm[k]]] = back[k];
-    for (size_t i = 0; i < 4 * res->num_tets; i++) hull += res->neighbors[i] == GTET_MPI_NO_TET;
+    /* the hull facets: the slots left GTET_MPI_NO_TET, less those answered with a tet */
+    uint64_t hull = nolid, ghull = 0;
+    for (size_t k = 0; k < nr; k++) {
+        res->neighbors[sls[perm[k]]] = back[k];
+        hull -= back[k] != GTET_MPI_NO_TET;
+    }
     MPI_Allreduce(&hull, &ghull, 1, MPI_UINT64_T, MPI_SUM, c->comm);
     res->num_hull_facets = ghull;
 done:
@@ -296,8 +323,8 @@ static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *r
     }
     if ((s = mx_agree(c, s)) != GTET_OK) return s;
     for (size_t i = 0; i < m; i++) {
-        res->tile_vertex_ids[i] = R->tile[i].id;
-        memcpy(res->tile_vertices + 3 * i, R->tile[i].x, 3 * sizeof(double));
+        res->tile_vertex_ids[i] = R->sp[i].id;   /* S's first m points: the tile */
+        memcpy(res->tile_vertices + 3 * i, R->sp[i].x, 3 * sizeof(double));
     }
     size_t w = 0;
     for (size_t i = 0; i < R->ns; i++)
@@ -344,6 +371,8 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     if (s == GTET_OK)
         for (size_t t = 0; t < nt; t++) {
             const uint32_t *v = tv + 4 * t;
+            if (t + OPF < nt)
+                for (int i = 0; i < 4; i++) __builtin_prefetch(vid + v[4 * OPF + i]);
             uint32_t lo = v[0];
             for (int i = 1; i < 4; i++)
                 if (vid[v[i]] < vid[lo]) lo = v[i];
@@ -358,16 +387,23 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     res->tet_offset = res->tet_offsets[me];
     res->num_tets_global = res->tet_offsets[P];
     res->num_tets = own;
-    for (size_t t = 0; t < nt && s == GTET_OK; t++)
+    for (size_t t = 0; t < nt && s == GTET_OK; t++) {
+        if (t + OPF < nt)   /* row t + OPF is not compacted over yet (o <= t) */
+            for (int f = 0; f < 4; f++) {
+                uint32_t u = nb[4 * (t + OPF) + (size_t)f];
+                if (u < nt) __builtin_prefetch(X.lid + u);
+            }
         if (X.lid[t] != NOLID && compact_tet(R, &X, tv, nb, t, res->tet_offset) != 0)
             s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    }
     free(X.lid);
     X.lid = NULL;
     /* the result over the local mesh's arrays, before the matching allocates anything that
      * could take the memory the lower array grows into */
-    if (s == GTET_OK && widen_both(R, res, vid) != 0)
+    uint64_t nolid = 0;
+    if (s == GTET_OK && widen_both(R, res, vid, &nolid) != 0)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, res);
+    if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, nolid, res);
     if (s == GTET_OK) s = out_vertices(R, X.used, res);
 done:
     free(vid);

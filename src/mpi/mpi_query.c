@@ -149,7 +149,7 @@ static gtet_status cell_boxes(run *R, size_t cells)
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++)
             for (int k = 0; k < 3; k++) {
-                double x = R->tile[j].x[k];
+                double x = R->sp[j].x[k];
                 lo[k] = x < lo[k] ? x : lo[k];
                 hi[k] = x > hi[k] ? x : hi[k];
             }
@@ -167,6 +167,8 @@ gtet_status mx_grid_build(run *R)
     grid *G = &R->gr;
     size_t m = R->m;
     if (m == 0) return GTET_OK;
+    if (R->scap < m) return mx_fail(&R->c, GTET_ERR_INTERNAL, "rank %d: no room for the tile in S",
+                                    R->c.rank);
     const double *box = R->box + 6 * R->c.rank;
     double e[3], vol = 1, emax = 0;
     for (int k = 0; k < 3; k++) {
@@ -190,9 +192,8 @@ gtet_status mx_grid_build(run *R)
         cells *= (size_t)G->g[k];
     }
     G->start = mx_calloc(cells + 1, sizeof *G->start);
-    G->idx = mx_malloc(m * sizeof *G->idx);
     uint32_t *cid = mx_malloc(m * sizeof *cid);
-    if (!G->start || !G->idx || !cid || m > UINT32_MAX) {
+    if (!G->start || !cid || m > UINT32_MAX) {
         free(cid);
         return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
     }
@@ -204,17 +205,13 @@ gtet_status mx_grid_build(run *R)
         G->start[ci + 1]++;
     }
     for (size_t ci = 0; ci < cells; ci++) G->start[ci + 1] += G->start[ci];
-    /* the tile itself in cell order (idx the identity): answers scan a cell's points in
-     * memory order instead of 32 B records at random (the answers' largest cost before) */
-    mpt *cell_order = mx_malloc(m * sizeof *cell_order);
-    if (!cell_order) {
-        free(cid);
-        return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
-    }
-    for (size_t i = 0; i < m; i++) cell_order[G->start[cid[i]]++] = R->tile[i];
-    for (size_t i = 0; i < m; i++) G->idx[i] = (uint32_t)i;
+    /* the tile itself in cell order, written as S's first m points: cell ci holds S's points
+     * start[ci] .. start[ci + 1] - 1, which answers scan in memory order (32 B records at random
+     * through an index were the answers' largest cost before); S holds the tile from here on,
+     * so R->tile goes (one copy of the tile in memory, not two) */
+    for (size_t i = 0; i < m; i++) R->sp[G->start[cid[i]]++] = R->tile[i];
     free(R->tile);
-    R->tile = cell_order;
+    R->tile = NULL;
     for (size_t ci = cells; ci > 0; ci--) G->start[ci] = G->start[ci - 1];
     G->start[0] = 0;
     free(cid);
@@ -460,9 +457,9 @@ static gtet_status near_hull(run *R, int to, vec *out, size_t n0)
     for (size_t i = n0; i < out->n; i++) {
         if (!(mx_box_dist(box, o[i].x) <= lim)) continue;
         uint64_t idx = o[i].id;
-        if (mx_hs_add(&R->sent, idx * (uint64_t)R->c.size + (uint64_t)to) < 0)
+        if (mx_mark_sent(R, idx, to) < 0)
             return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-        o[w] = R->tile[idx];
+        o[w] = R->sp[idx];
         w++;
     }
     out->n = w;
@@ -475,7 +472,6 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
 {
     grid *G = &R->gr;
     size_t m = R->m;
-    int P = R->c.size;
     if (m == 0) return GTET_OK;
     int hull = Q->id[3] == NOID;
     size_t n0 = out->n;
@@ -531,7 +527,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                 if (!mx_ball_meets_box(&B, cb)) continue;
                             }
                             for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) {
-                                const mpt *p = &R->tile[G->idx[j]];
+                                const mpt *p = &R->sp[j];
                                 if (p->id == Q->id[0] || p->id == Q->id[1] || p->id == Q->id[2] ||
                                     p->id == Q->id[3])
                                     continue;
@@ -539,11 +535,10 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                 /* a point sent to `to` before is not answered whether or not it
                                  * conflicts: asked after the floating filter, before the exact
                                  * predicate */
-                                uint64_t key = (uint64_t)G->idx[j] * (uint64_t)P + (uint64_t)to;
                                 if (hull) {
                                     /* the block filter's test, point by point (D4) */
                                     if (!H.all && !hspace_may_reach(&H, p->x)) continue;
-                                    if (mx_hs_has(&R->sent, key)) continue;
+                                    if (mx_sent(R, j, to)) continue;
                                     conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2],
                                                                    p->x) > 0;
                                 } else {
@@ -554,7 +549,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                             B.r * (1 + 1e-9))
                                             continue;
                                     }
-                                    if (mx_hs_has(&R->sent, key)) continue;
+                                    if (mx_sent(R, j, to)) continue;
                                     conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2],
                                                                  Q->p[3], p->x) > 0;
                                 }
@@ -564,10 +559,10 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                     if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                            "out of memory");
                                     *o = *p;
-                                    o->id = G->idx[j];   /* the tile index until near_hull */
+                                    o->id = j;   /* the tile index until near_hull */
                                     continue;
                                 }
-                                if (mx_hs_add(&R->sent, key) < 0)
+                                if (mx_mark_sent(R, j, to) < 0)
                                     return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
                                                    "out of memory");
                                 mpt *o = mx_vec_push(out);

@@ -59,8 +59,8 @@ static void run_free(run *R)
     free(R->sown);
     free(R->have.k);
     free(R->sent.k);
+    free(R->sent_any);
     free(R->gr.start);
-    free(R->gr.idx);
     free(R->gr.cb);
     free(R->gr.far);
     free(R->prev);

@@ -30,10 +30,11 @@ static int injected(void)
     return 0;
 }
 
-/* blocks of this size and more start on a 2 MiB boundary and ask for transparent huge pages
- * (base_hugepages): a rank writes its big arrays (the exchanges' buffers, the patched mesh,
- * the result) once each, afresh, and on this VM a 4 KiB page fault cost ~6 us -- 23 % of a
- * rank's samples at 1M points, np 2 (NOTES E50) */
+/* blocks of this size and more start on a 2 MiB boundary and get the pages the kernel's big
+ * arrays get (base_alloc_huge, base_page_mode): huge pages where a 4 KiB fault is costly (a
+ * rank writes its big arrays -- the exchanges' buffers, the patched mesh, the result -- once
+ * each, afresh: NOTES E50), 4 KiB pages where the host takes free memory back and a 4 KiB
+ * fault is cheap, as for the kernel (NOTES E163; the MPI layer on such a host: D82) */
 #define MX_HUGE_MIN ((size_t)8 << 20)
 
 void *mx_malloc(size_t bytes)
