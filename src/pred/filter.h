@@ -324,28 +324,32 @@ static inline double pred_insphere_det_packed_(const double *a, const double *b,
  * the answers and the records byte for byte with the scalar filter's.
  * Repeated rather than shared with pred_insphere_filter: proofs/check builds the Gappa model
  * of the certified bound from that function's own text, which a helper would take apart. */
-static inline void pred_insphere_packed_keep_(const pred_is_lanes_ *L, double *minors,
-                                              double det, double xyzmm)
+/* the minors abc, bcd, cda, dab from the lanes (abc, cda) and (bcd, dab) */
+static inline void pred_insphere_packed_minors_(const pred_is_lanes_ *L, double *minors)
 {
     double t[4];
     _mm_storeu_pd(t, L->abc_cda);
     _mm_storeu_pd(t + 2, L->bcd_dab);
-    pred_insphere_keep_(minors, t[0], t[2], t[1], t[3], det, xyzmm);
+    minors[0] = t[0];
+    minors[1] = t[2];
+    minors[2] = t[1];
+    minors[3] = t[3];
+}
+
+/* the undecided record (pred_insphere_keep_) from the lanes */
+static inline void pred_insphere_packed_keep_(const pred_is_lanes_ *L, double *minors,
+                                              double det, double xyzmm)
+{
+    pred_insphere_packed_minors_(L, minors);
+    minors[4] = det;
+    minors[5] = xyzmm;
 }
 
 static inline int pred_insphere_packed_rest_(const pred_is_lanes_ *L, double det, double seps,
                                              double *minors)
 {
     if (seps == 0) {
-        if (minors) {
-            double t[4];
-            _mm_storeu_pd(t, L->abc_cda);
-            _mm_storeu_pd(t + 2, L->bcd_dab);
-            minors[0] = t[0];  /* abc */
-            minors[1] = t[2];  /* bcd */
-            minors[2] = t[1];  /* cda */
-            minors[3] = t[3];  /* dab */
-        }
+        if (minors) pred_insphere_packed_minors_(L, minors);
         return 0;
     }
     const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
