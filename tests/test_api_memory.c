@@ -413,6 +413,31 @@ static void big_blocks_ask_for_huge_pages(void)
     TEST_CHECK(strstr(flags, mode == BASE_PAGES_SMALL ? " nh" : " hg") != NULL,
                "auto (%d): VmFlags%s", mode, flags);
     free(p);
+    /* a run larger than the memory 4 KiB faults take without the host switches an automatic
+     * choice of 4 KiB pages to huge pages, and the next small run back (NOTES.md E168) */
+    const uint64_t pool = base_page_pool_bytes();
+    printf("  pool of never-reported free memory and page cache: %.2f GiB\n",
+           pool == UINT64_MAX ? -1.0 : (double)pool / 1073741824.0);
+    base_page_run(SIZE_MAX / 2);
+    TEST_CHECK(base_page_mode() == BASE_PAGES_HUGE, "a run past every pool: mode %d", base_page_mode());
+    if (mode == BASE_PAGES_SMALL) {
+        TEST_CHECK(pool > 0 && pool != UINT64_MAX, "the pool was not read: %llu",
+                   (unsigned long long)pool);
+        p = base_alloc_huge(big);
+        TEST_REQUIRE(p != NULL, "allocation");
+        vm_flags(p, flags, sizeof flags);
+        TEST_CHECK(strstr(flags, " hg") != NULL, "a big run's block: VmFlags%s", flags);
+        free(p);
+    }
+    base_page_run(0);
+    TEST_CHECK(base_page_mode() == mode, "a small run after it: mode %d, not %d", base_page_mode(),
+               mode);
+    /* a forced choice is never switched */
+    setenv("GTET_HUGEPAGES", "off", 1);
+    base_page_mode_reset();
+    base_page_run(SIZE_MAX / 2);
+    TEST_CHECK(base_page_mode() == BASE_PAGES_SMALL, "GTET_HUGEPAGES=off switched by a big run");
+    unsetenv("GTET_HUGEPAGES");
     base_page_mode_reset();
 }
 

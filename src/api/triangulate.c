@@ -133,6 +133,10 @@ static gtet_status prepare(run *r, gtet_mesh **out)
     /* refuse a run that cannot fit before any big allocation (memory.c) */
     gtet_status s = mem_guard(r->n, r->threads, &r->opts, r->err);
     if (s != GTET_OK) return s;
+    /* and which pages this run's big arrays ask for (hugepages.c base_page_run) */
+    mem_estimate est;
+    mem_estimate_run(r->n, r->threads, &r->opts, &est);
+    base_page_run((size_t)est.resident);
     s = kval_finite(r->xyz, r->n, r->threads, r->err);
     if (s != GTET_OK) return s;
     r->res = calloc(1, sizeof *r->res);

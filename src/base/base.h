@@ -48,6 +48,15 @@ int base_page_mode(void);
  * decision did not measure it (an explicit GTET_HUGEPAGES, or a host that reports nothing). */
 double base_small_fault_us(void);
 
+/* A run that will touch about peak_bytes starts: with the automatic choice of 4 KiB pages it
+ * switches the big arrays to huge pages when peak_bytes exceeds the memory the guest can
+ * fault without its host (base_page_pool_bytes); base_page_mode says so until the next call. */
+void base_page_run(size_t peak_bytes);
+
+/* Free memory in blocks below the balloon's reporting order plus the page cache, in bytes
+ * (UINT64_MAX when unknown): what 4 KiB faults take without the host (hugepages.c). */
+uint64_t base_page_pool_bytes(void);
+
 /* Forget the decision (tests: the next base_page_mode decides again from the environment). */
 void base_page_mode_reset(void);
 

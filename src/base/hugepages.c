@@ -47,6 +47,8 @@
 #define SMALL_FAULT_CHEAP_US 5.0
 
 static _Atomic int page_mode;  /* 0 undecided, else BASE_PAGES_HUGE / BASE_PAGES_SMALL */
+static _Atomic int page_auto;  /* page_mode was decided automatically (no GTET_HUGEPAGES) */
+static _Atomic int run_huge;   /* the current run touches more than the cheap pool (base_page_run) */
 static _Atomic double small_fault_us = -1.0;
 
 #if defined(__linux__)
@@ -103,6 +105,50 @@ static double measure_small_fault_us(void)
     }
     return best;
 }
+
+/* The memory a run can fault with 4 KiB pages without the host: the free blocks below the
+ * balloon's reporting order (page_reporting_order, 9 unless said otherwise), which were never
+ * handed to the host, and the page cache, which the guest reclaims from memory it holds;
+ * /proc/buddyinfo and /proc/meminfo (Active(file) + Inactive(file)).  UINT64_MAX when they
+ * cannot be read (then nothing is known to be dear). */
+static uint64_t cheap_pool_bytes(void)
+{
+    int order = 9;
+    FILE *f = fopen("/sys/module/page_reporting/parameters/page_reporting_order", "r");
+    if (f) {
+        int o;
+        if (fscanf(f, "%d", &o) == 1 && o > 0 && o < 20) order = o;
+        fclose(f);
+    }
+    if (!(f = fopen("/proc/buddyinfo", "r"))) return UINT64_MAX;
+    uint64_t pages = 0;
+    char line[512];
+    while (fgets(line, sizeof line, f)) {
+        const char *z = strstr(line, "zone");
+        if (!z) continue;
+        z += 4;
+        while (*z == ' ') z++;
+        while (*z && *z != ' ') z++;  /* the zone's name */
+        char *end;
+        for (int k = 0;; k++) {
+            const unsigned long long c = strtoull(z, &end, 10);
+            if (end == z) break;
+            if (k < order) pages += (uint64_t)c << k;
+            z = end;
+        }
+    }
+    fclose(f);
+    uint64_t file_kib = 0;
+    if ((f = fopen("/proc/meminfo", "r"))) {
+        unsigned long long kib;
+        while (fgets(line, sizeof line, f))
+            if (sscanf(line, "Active(file): %llu kB", &kib) == 1 ||
+                sscanf(line, "Inactive(file): %llu kB", &kib) == 1)
+                file_kib += kib;
+        fclose(f);
+    }
+    return pages * 4096 + file_kib * 1024;
+}
 #endif
 
 static int decide_page_mode(void)
@@ -110,6 +156,7 @@ static int decide_page_mode(void)
     const char *e = getenv("GTET_HUGEPAGES");
     if (e && (strcmp(e, "off") == 0 || strcmp(e, "0") == 0)) return BASE_PAGES_SMALL;
     if (e && strcmp(e, "on") == 0) return BASE_PAGES_HUGE;
+    page_auto = 1;
 #if defined(__linux__)
     if (!host_takes_free_pages()) return BASE_PAGES_HUGE;
     const double us = measure_small_fault_us();
@@ -120,7 +167,7 @@ static int decide_page_mode(void)
 #endif
 }
 
-int base_page_mode(void)
+static int process_page_mode(void)
 {
     int m = page_mode;
     if (!m) {  /* two threads deciding at once measure twice and agree but for noise: either */
@@ -131,6 +178,39 @@ int base_page_mode(void)
     return m;
 }
 
+int base_page_mode(void)
+{
+    const int m = process_page_mode();
+    return m == BASE_PAGES_SMALL && run_huge ? BASE_PAGES_HUGE : m;
+}
+
+/* A run that will touch about peak_bytes: where 4 KiB pages were chosen automatically, they
+ * are cheap only while the guest has memory it never gave its host (cheap_pool_bytes); a run
+ * that needs more faults memory fresh from the host with either page size, and then huge
+ * pages fault 512 times less often and miss the TLB less (NOTES.md Q38, E168).  The choice
+ * holds until the next run's call; two runs at once in one process share the last one's (a
+ * matter of speed only). */
+void base_page_run(size_t peak_bytes)
+{
+    int huge = 0;
+#if defined(__linux__)
+    if (process_page_mode() == BASE_PAGES_SMALL && page_auto)
+        huge = (uint64_t)peak_bytes > cheap_pool_bytes();
+#else
+    (void)peak_bytes;
+#endif
+    run_huge = huge;
+}
+
+uint64_t base_page_pool_bytes(void)
+{
+#if defined(__linux__)
+    return cheap_pool_bytes();
+#else
+    return UINT64_MAX;
+#endif
+}
+
 double base_small_fault_us(void)
 {
     return small_fault_us;
@@ -139,6 +219,8 @@ double base_small_fault_us(void)
 void base_page_mode_reset(void)
 {
     page_mode = 0;
+    page_auto = 0;
+    run_huge = 0;
     small_fault_us = -1.0;
 }
 
