@@ -83,12 +83,12 @@ gtet_status km_walk(kctx *c, const double *p, uint32_t *found, int may_scan)
         uint32_t r = rng_next(c);
         int moved = 0;
         /* the facets to test, the one entered through left out, in the order r + 0..3 (bit k
-         * of `todo` is facet (r + k) & 3): a mask rather than a test of each facet against
+         * of `untested` is facet (r + k) & 3): a mask rather than a test of each facet against
          * the entry, a branch taken once in four at random (NOTES.md E167); at the start
          * entry is UINT32_MAX, and entry >> 2 is no slot (KM_MAX_SLOTS) */
         const uint32_t skip = entry >> 2 == t ? 1u << (((entry & 3) - r) & 3) : 0;
-        for (uint32_t todo = 15u & ~skip; todo; todo &= todo - 1) {
-            const int f = (int)((r + (uint32_t)__builtin_ctz(todo)) & 3);
+        for (uint32_t untested = 15u & ~skip; untested; untested &= untested - 1) {
+            const int f = (int)((r + (uint32_t)__builtin_ctz(untested)) & 3);
             if (orient_replaced(c, t, f, p) < 0) {
                 uint32_t h = m->tn[4 * (size_t)t + (size_t)f];
                 if (c->colour && !km_owned(c, h >> 2)) {
