@@ -1,10 +1,12 @@
-/* test_pred_packed_filter.c -- the kernel's two-lane insphere filter
- * (src/pred/filter.h pred_insphere_filter_packed) is the scalar filter bit for bit.
+/* test_pred_packed_filter.c -- the kernel's two-lane insphere filters
+ * (src/pred/filter.h pred_insphere_filter_packed, static test first, and
+ * pred_insphere_filter_packed_sf, semi-static bound first) are the scalar filter bit for bit.
  *
  * Specification: its det~ (pred_insphere_det_packed_) is the bytes of det~ evaluated in
  * filter.h's FIXED order (typed again here; NaN for NaN); on every tuple and every kind of
- * static bound (none, a box's, 0 for a lattice) the packed filter returns what
- * pred_insphere_filter returns and leaves the same record (compared as bytes) when undecided.
+ * static bound (none, a box's, 0 for a lattice) both packed filters return what
+ * pred_insphere_filter returns and leave the same record (compared as bytes) when undecided,
+ * and the static-first one counts a static miss exactly when |det~| <= seps (or det~ is NaN).
  * Tuples: uniform in a box, points rounded onto a sphere with a fifth point near it (the
  * record's path), ulp neighbours of lattice points of an integer sphere (exactly co-spherical:
  * seps 0), random doubles of every magnitude (the guards, overflowing translations), and small
@@ -49,22 +51,30 @@ static double det_scalar(double (*p)[3])
 
 static void compare(double (*p)[3], double seps)
 {
-    double ms[PRED_IS_NMINORS], mp[PRED_IS_NMINORS];
+    double ms[PRED_IS_NMINORS], mp[PRED_IS_NMINORS], mf[PRED_IS_NMINORS];
     memset(ms, 0x5a, sizeof ms);
     memset(mp, 0x5a, sizeof mp);
+    memset(mf, 0x5a, sizeof mf);
+    uint64_t misses = 0;
     const int s = pred_insphere_filter(p[0], p[1], p[2], p[3], p[4], seps, ms);
-    const int k = pred_insphere_filter_packed(p[0], p[1], p[2], p[3], p[4], seps, mp);
+    const int k = pred_insphere_filter_packed(p[0], p[1], p[2], p[3], p[4], seps, mp, &misses);
+    const int f = pred_insphere_filter_packed_sf(p[0], p[1], p[2], p[3], p[4], seps, mf);
     const double ds = det_scalar(p), dp = pred_insphere_det_packed_(p[0], p[1], p[2], p[3], p[4]);
     compared++;
     undecided += s == 0;
     TEST_CHECK(memcmp(&ds, &dp, sizeof ds) == 0 || (isnan(ds) && isnan(dp)),
                "det~ scalar %a packed %a", ds, dp);
-    if (s != k || memcmp(ms, mp, sizeof ms) != 0) {
-        TEST_CHECK(0, "scalar %d packed %d (seps %a) at (%a %a %a) (%a %a %a) (%a %a %a) "
-                   "(%a %a %a) (%a %a %a); records %a %a %a %a %a %a / %a %a %a %a %a %a", s, k,
+    /* the static test's misses: exactly the calls it leaves, |det~| <= seps or NaN */
+    TEST_CHECK(misses == (uint64_t)!(ds > seps || ds < -seps), "misses %llu, det~ %a seps %a",
+               (unsigned long long)misses, ds, seps);
+    if (s != k || memcmp(ms, mp, sizeof ms) != 0 || s != f || memcmp(ms, mf, sizeof ms) != 0) {
+        TEST_CHECK(0, "scalar %d packed %d semi-first %d (seps %a) at (%a %a %a) (%a %a %a) "
+                   "(%a %a %a) (%a %a %a) (%a %a %a); records %a %a %a %a %a %a / %a %a %a %a "
+                   "%a %a / %a %a %a %a %a %a", s, k, f,
                    seps, p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2], p[2][0], p[2][1],
                    p[2][2], p[3][0], p[3][1], p[3][2], p[4][0], p[4][1], p[4][2], ms[0], ms[1],
-                   ms[2], ms[3], ms[4], ms[5], mp[0], mp[1], mp[2], mp[3], mp[4], mp[5]);
+                   ms[2], ms[3], ms[4], ms[5], mp[0], mp[1], mp[2], mp[3], mp[4], mp[5], mf[0],
+                   mf[1], mf[2], mf[3], mf[4], mf[5]);
     }
 }
 

@@ -8,14 +8,16 @@
 #include "kmesh.h"
 
 /* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)?  tv, V
- * and seps are c->m's tet vertices, coordinates and static insphere bound: the cavity search
- * reads them once a point and passes them, where each call would load them again (stores
+ * and seps are c->m's tet vertices, coordinates and static insphere bound, semi_first is
+ * c->semi_first (km_filter_order): the cavity search reads them once a point and passes
+ * them, where each call would load them again (stores
  * through the boundary records may alias them for the compiler; NOTES.md E142).
  * always_inline: gcc's size heuristics stop inlining it once the filter keeps its record of
  * an undecided call (filter.h pred_insphere_keep_): paraboloid 100k +4.5% instructions. */
 __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const uint32_t *tv,
                                                                  const double *V, double seps,
-                                                                 uint32_t t, const double *p)
+                                                                 int semi_first, uint32_t t,
+                                                                 const double *p)
 {
     const kmesh *m = c->m;
     const uint32_t *v = tv + 4 * (size_t)t;
@@ -25,11 +27,16 @@ __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const 
                                           c->sos_log) > 0;
     const double *a = V + 3 * (size_t)v[0], *b = V + 3 * (size_t)v[1];
     const double *cc = V + 3 * (size_t)v[2], *d = V + 3 * (size_t)v[3];
-    /* the filter inline (most calls stop here); the full chain counts its own call */
+    /* the filter inline (most calls stop here); the full chain counts its own call.  Its
+     * order, static test first or semi-static bound first, changes which branches run, never
+     * the answer nor the record (filter.h pred_insphere_filter_packed_sf). */
     double minors[PRED_IS_NMINORS];
 #ifdef PRED_INSPHERE_PACKED
-    int s = pred_insphere_filter_packed(a, b, cc, d, p, seps, minors);
+    int s = semi_first
+                ? pred_insphere_filter_packed_sf(a, b, cc, d, p, seps, minors)
+                : pred_insphere_filter_packed(a, b, cc, d, p, seps, minors, &c->static_misses);
 #else
+    (void)semi_first;  /* one order only: the sampler counts no miss and never switches */
     int s = pred_insphere_filter(a, b, cc, d, p, seps, minors);
 #endif
     if (s != 0) {
@@ -43,8 +50,24 @@ __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const 
 __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t t, const double *p)
 {
     const kmesh *m = c->m;
-    return km_conflicts_in(c, m->tv, m->v, m->ps.is_seps, t, p);
+    return km_conflicts_in(c, m->tv, m->v, m->ps.is_seps, c->semi_first, t, p);
 }
+
+/* The insphere filter's order for the next insertions.  The static test decides almost every
+ * call on uniform points and is then one well-predicted branch; on surface samples and spheres
+ * their tets are small against the box, the static test leaves most calls to the semi-static
+ * bound, and its branch goes either way at random: there the semi-static bound first (a
+ * branch-free bound, one rarely taken branch) is faster (NOTES.md E169).  Every
+ * KM_ORDER_PERIOD insertions of a thread, KM_ORDER_SAMPLE of them run static-first and count
+ * the calls the static test leaves; the next ones run semi-static-first when that share
+ * exceeds KM_ORDER_SHARE.  Insertions follow the Moore curve, so the choice follows the
+ * density along it (a dense cluster in a sparse set).  The answers are the same either way:
+ * the mesh never depends on the choice. */
+#define KM_ORDER_SAMPLE 256u
+#define KM_ORDER_PERIOD 4096u
+#define KM_ORDER_SHARE_NUM 1u  /* KM_ORDER_SHARE = NUM / DEN */
+#define KM_ORDER_SHARE_DEN 3u
+void km_filter_order(kctx *c);
 
 /* locate.c: a ghost in conflict with p found by a walk over the hull from c->last_ghost, or
  * UINT32_MAX (in a parallel pass also when the walk meets a ghost not this thread's); the
@@ -58,8 +81,9 @@ gtet_status km_scan_for_conflict(kctx *c, const double *p, uint32_t *found);
 /* A tet in conflict with p (*t0): over the hull first when the last insertion was outside it,
  * else by the visibility walk from c->last; *t0 = UINT32_MAX in a parallel pass
  * when the walk met a tet not this thread's or ran out of steps (defer).  Inlined into
- * km_insert (one call a point less). */
-static inline gtet_status km_find_conflict(kctx *c, const double *p, uint32_t *t0)
+ * km_insert (one call a point less); semi_first as for km_conflicts_in. */
+static inline gtet_status km_find_conflict(kctx *c, const double *p, uint32_t *t0,
+                                           const int semi_first)
 {
     if (__builtin_expect(c->last_ghost != UINT32_MAX, 0)) {
         *t0 = km_hull_search(c, p);
@@ -68,7 +92,8 @@ static inline gtet_status km_find_conflict(kctx *c, const double *p, uint32_t *t
     }
     gtet_status s = km_walk(c, p, t0, 1);
     if (s != GTET_OK || *t0 == UINT32_MAX) return s;
-    if (km_conflicts(c, *t0, p)) return GTET_OK;
+    if (km_conflicts_in(c, c->m->tv, c->m->v, c->m->ps.is_seps, semi_first, *t0, p))
+        return GTET_OK;
     /* the located tet must conflict (locate.c) */
     if (c->colour) return GTET_ERR_INTERNAL;
     return km_scan_for_conflict(c, p, t0);

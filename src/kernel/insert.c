@@ -63,8 +63,9 @@ gtet_status km_flush_block(kctx *c)
 
 /* Make sure `need` slots can be taken without failing: serially by growing the arrays, in a
  * parallel pass by claiming blocks of fresh slots from the shared counter (the arrays never
- * grow during a pass; GTET_ERR_TOO_LARGE then means "no room in this pass"). */
-static gtet_status ensure_room(kctx *c, size_t need)
+ * grow during a pass; GTET_ERR_TOO_LARGE then means "no room in this pass").  Inlined in
+ * both instances of km_insert, as it was in the one before them. */
+static inline __attribute__((always_inline)) gtet_status ensure_room(kctx *c, size_t need)
 {
     kmesh *m = c->m;
     if (!c->colour) {
@@ -277,10 +278,11 @@ static void rollback(kctx *c, size_t ncav)
  * deleted tets in c->cav[0..*ncav) (marked dead), the boundary facets in c->bnd[0..*nb) as
  * the new tets they become.  In a parallel pass every tet is checked to be this thread's
  * before it is marked (O2); a tet that is not rolls the marks back and defers.  *foreign: a
- * cavity tet has a vertex of another colour (own_min 3). */
+ * cavity tet has a vertex of another colour (own_min 3).  semi_first: the insphere filter's
+ * order (km_filter_order), a constant in each of its two copies. */
 #define KM_KEPT_CACHE 64
 KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, size_t *ncav_out,
-                        size_t *nb_out, int *foreign_out, int *deferred)
+                        size_t *nb_out, int *foreign_out, int *deferred, const int semi_first)
 {
     kmesh *m = c->m;
     size_t ncav = 0, nb = 0;
@@ -336,7 +338,7 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
             uint32_t h = hn[f];
             uint32_t u = h >> 2;
             uint32_t *k = &kept[u & (KM_KEPT_CACHE - 1)];
-            if (*k != u && km_conflicts_in(c, tv, V, seps, u, p)) {
+            if (*k != u && km_conflicts_in(c, tv, V, seps, semi_first, u, p)) {
                 if (c->colour) {
                     const int own = km_owned(c, u);
                     if (!own) {
@@ -459,12 +461,31 @@ static __attribute__((noinline)) void remember_ghost(kctx *c, size_t nb)
         }
 }
 
-gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
+__attribute__((cold, noinline)) void km_filter_order(kctx *c)
+{
+    if (c->sampling) {  /* a sample ends: the order for the rest of the period */
+        const uint64_t calls = c->cnt.insphere_calls - c->sample_calls0;
+        c->semi_first = KM_ORDER_SHARE_DEN * c->static_misses > KM_ORDER_SHARE_NUM * calls;
+        c->sampling = 0;
+        c->order_left = KM_ORDER_PERIOD - KM_ORDER_SAMPLE;
+    } else {            /* a period ends: sample static-first */
+        c->semi_first = 0;
+        c->sampling = 1;
+        c->static_misses = 0;
+        c->sample_calls0 = c->cnt.insphere_calls;
+        c->order_left = KM_ORDER_SAMPLE;
+    }
+}
+
+/* km_insert with the filter's order a constant: two instances, so that each keeps the code
+ * (and the registers) of one order only */
+static inline __attribute__((always_inline)) gtet_status km_insert_t(kctx *c, uint32_t pid,
+                                                                     int *deferred,
+                                                                     const int semi_first)
 {
     const double *p = km_pt(c->m, pid);
-    *deferred = 0;
     uint32_t t0;
-    gtet_status s = km_find_conflict(c, p, &t0);
+    gtet_status s = km_find_conflict(c, p, &t0, semi_first);
     if (s != GTET_OK) return s;
     if (t0 == UINT32_MAX) {
         c->conflicts++;
@@ -474,11 +495,31 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     size_t ncav = 0, nb = 0;
     int foreign = 0;
     const int outside = km_is_ghost(c->m, t0);  /* p beyond a hull facet (the walk's ghost) */
-    s = dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred);
+    s = dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred, semi_first);
     if (s != GTET_OK || *deferred) return s;
     s = fill(c, ncav, nb, foreign, deferred);
     if (__builtin_expect(outside, 0) && s == GTET_OK && !*deferred) remember_ghost(c, nb);
     return s;
+}
+
+static __attribute__((noinline)) gtet_status km_insert_static_first(kctx *c, uint32_t pid,
+                                                                    int *deferred)
+{
+    return km_insert_t(c, pid, deferred, 0);
+}
+
+static __attribute__((noinline)) gtet_status km_insert_semi_first(kctx *c, uint32_t pid,
+                                                                  int *deferred)
+{
+    return km_insert_t(c, pid, deferred, 1);
+}
+
+gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
+{
+    *deferred = 0;
+    if (__builtin_expect(c->order_left-- == 0, 0)) km_filter_order(c);
+    return c->semi_first ? km_insert_semi_first(c, pid, deferred)
+                         : km_insert_static_first(c, pid, deferred);
 }
 
 gtet_status km_first_tet(kctx *c, uint32_t a, uint32_t b, uint32_t cc, uint32_t d)

@@ -99,6 +99,12 @@ typedef struct kctx {
     int out_of_room;    /* a parallel insertion was deferred for lack of slots */
     size_t blk_next, blk_end;
     uint64_t conflicts; /* insertions rolled back on a colour conflict */
+    /* the insphere filter's order (conflict.h km_filter_order): semi_first set, the
+     * semi-static bound first, else the static test first; a sample of static-first
+     * insertions (sampling set) counts the calls the static test leaves undecided */
+    uint8_t semi_first, sampling;
+    uint32_t order_left;          /* insertions before the order is reconsidered */
+    uint64_t static_misses, sample_calls0;
 } kctx;
 
 static inline int km_is_ghost(const kmesh *m, uint32_t t) { return m->tv[4 * (size_t)t + 3] == KM_GHOST; }

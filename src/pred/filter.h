@@ -84,6 +84,8 @@
 
 #include "fpenv.h"
 
+#include <stdint.h>
+
 #define PRED_O3_C 5.107025913280368e-15
 #define PRED_O3_LO 0x1p-320
 #define PRED_O3_HI 0x1p+340
@@ -370,16 +372,54 @@ static inline int pred_insphere_packed_rest_(const pred_is_lanes_ *L, double det
     return (det > eps) - (det < -eps);
 }
 
-/* det~ and the static test on the lanes, then the rest of the scalar filter on their values. */
+/* det~ and the static test on the lanes, then the rest of the scalar filter on their values;
+ * *static_misses counts the calls the static test leaves to the rest (the kernel's choice of
+ * filter order, kernel/conflict.h). */
 static inline int pred_insphere_filter_packed(const double *a, const double *b, const double *c,
                                               const double *d, const double *e, double seps,
-                                              double *minors)
+                                              double *minors, uint64_t *static_misses)
 {
     pred_is_lanes_ L;
     const double det = pred_insphere_lanes_(a, b, c, d, e, &L);
     if (det > seps) return 1;
     if (det < -seps) return -1;
+    ++*static_misses;
     return pred_insphere_packed_rest_(&L, det, seps, minors);
+}
+
+/* The same filter with the semi-static bound first: the same answer and the same record as
+ * pred_insphere_filter, bit for bit, for inputs where the static bound seldom decides (surface
+ * samples, spheres: the static test's branch goes either way at random there, and every call
+ * it misses pays the rest anyway).  Why the answers agree: pred_insphere_filter decides, with
+ * the sign of det~, exactly when |det~| > seps or (the guard holds and |det~| > eps), where
+ * eps = ((((C*X)*Y)*Z)*M)*M.  Here the bound is min(eps, seps) when the guard holds, seps when
+ * it does not, and |det~| > min(eps, seps) is |det~| > eps or |det~| > seps (both are valid
+ * bounds when the guard holds: proofs/filters.md (S) and section 8).  The guard's NaN rule is the
+ * scalar text's (a NaN translation fails it), a NaN det~ decides nothing, seps = 0 (a lattice)
+ * gives a bound 0 (eps >= 0 when the guard holds) and PRED_NO_STATIC (+inf) gives eps.  An
+ * undecided call runs pred_insphere_packed_rest_, which leaves the record.  The bound is chosen
+ * without a branch: one branch a call, on whether anything was decided (taken rarely).
+ * tests/test_pred_packed_filter.c compares answers and records with the scalar filter's. */
+static inline int pred_insphere_filter_packed_sf(const double *a, const double *b,
+                                                 const double *c, const double *d,
+                                                 const double *e, double seps, double *minors)
+{
+    pred_is_lanes_ L;
+    const double det = pred_insphere_lanes_(a, b, c, d, e, &L);
+    const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+    const __m128d XY = _mm_max_pd(_mm_max_pd(_mm_and_pd(L.A, mag), _mm_and_pd(L.B, mag)),
+                                  _mm_max_pd(_mm_and_pd(L.C, mag), _mm_and_pd(L.D, mag)));
+    const __m128d Zs = _mm_max_pd(_mm_and_pd(L.Z1, mag), _mm_and_pd(L.Z2, mag));
+    const double X = _mm_cvtsd_f64(XY), Y = _mm_cvtsd_f64(_mm_unpackhi_pd(XY, XY));
+    const double Z = _mm_cvtsd_f64(_mm_max_sd(Zs, _mm_unpackhi_pd(Zs, Zs)));
+    const double lo = pred_min_(pred_min_(X, Y), Z);
+    const double M = pred_max_(pred_max_(X, Y), Z);
+    const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
+    const int guard = (lo >= PRED_IS_LO) & (M <= PRED_IS_HI);
+    const double bound = guard ? pred_min_(eps, seps) : seps;
+    const int s = (det > bound) - (det < -bound);
+    if (__builtin_expect(s == 0, 0)) return pred_insphere_packed_rest_(&L, det, seps, minors);
+    return s;
 }
 #endif
 

@@ -1,0 +1,165 @@
+/* test_kernel_filter_order.c -- the insphere filter's two orders in the kernel
+ * (src/kernel/conflict.h km_filter_order, src/pred/filter.h pred_insphere_filter_packed_sf).
+ *
+ * Specification: the order (static test first, semi-static bound first, or the sampler's
+ * choice every KM_ORDER_PERIOD insertions) never changes the mesh: the same points inserted
+ * in the same order give the same tet and neighbour arrays, byte for byte.  The sampler picks
+ * the semi-static bound first where the static bound seldom decides (a small cluster inside
+ * a large box: its tets are tiny against the box, NOTES.md E169) and keeps the static test
+ * first where it decides (uniform points).  A sampler that never counted a miss, or compared
+ * the share the wrong way, fails the second test; a semi-static-first bound below the
+ * filter's true error (2^-40 times it) answers wrong signs on the points rounded onto a
+ * sphere and fails the first.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel/conflict.h"
+#include "testutil.h"
+
+#ifdef GTET_TEST_SMALL
+#define N 6000
+#else
+#define N 30000
+#endif
+
+/* 8 corners of [-1, 1]^3, then `cluster` points on a bumpy sphere of radius 0.01 around the
+ * origin (the rest uniform in the cube), in random order after the corners.  With
+ * `degenerate` half of the cluster is rounded onto the sphere of radius 0.01 (nearly
+ * co-spherical tuples: det~ is mostly rounding error, and a bound below the true error
+ * answers wrong signs) and half is distinct multiples of 2^-12 in the shell 0.009..0.011
+ * (exactly co-spherical and coplanar tuples: calls neither bound decides). */
+#define LR 45   /* the lattice shell's outer radius in units of 2^-12 */
+static double *points(int cluster, int degenerate, uint64_t seed)
+{
+    tu_rng r = {seed};
+    double *p = malloc(3 * (size_t)N * sizeof *p);
+    unsigned char *used = calloc((size_t)(2 * LR + 1) * (2 * LR + 1) * (2 * LR + 1), 1);
+    for (int i = 0; i < 8; i++)
+        for (int j = 0; j < 3; j++) p[3 * i + j] = (i >> j) & 1 ? 1.0 : -1.0;
+    for (int i = 8; i < N; i++) {
+        double *q = p + 3 * i;
+        if (i - 8 < cluster && degenerate && (i & 1)) {
+            int x, y, z, r2;
+            size_t at;
+            do {
+                x = (int)tu_below(&r, 2 * LR + 1) - LR;
+                y = (int)tu_below(&r, 2 * LR + 1) - LR;
+                z = (int)tu_below(&r, 2 * LR + 1) - LR;
+                r2 = x * x + y * y + z * z;
+                at = ((size_t)(x + LR) * (2 * LR + 1) + (size_t)(y + LR)) * (2 * LR + 1) +
+                     (size_t)(z + LR);
+            } while (r2 < 37 * 37 || r2 > LR * LR || used[at]);
+            used[at] = 1;
+            q[0] = ldexp(x, -12);
+            q[1] = ldexp(y, -12);
+            q[2] = ldexp(z, -12);
+        } else if (i - 8 < cluster) {
+            double n2;
+            do {
+                for (int j = 0; j < 3; j++) q[j] = 2 * tu_uniform(&r) - 1;
+                n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+            } while (n2 < 0.01 || n2 > 1);
+            const double s = 0.01 * (degenerate ? 1.0 : 0.9 + 0.2 * tu_uniform(&r)) / sqrt(n2);
+            for (int j = 0; j < 3; j++) q[j] *= s;
+        } else {
+            for (int j = 0; j < 3; j++) q[j] = 2 * tu_uniform(&r) - 1;
+        }
+    }
+    free(used);
+    return p;
+}
+
+enum order { STATIC_FIRST, SEMI_FIRST, SAMPLED };
+
+typedef struct run {
+    size_t nt;
+    uint32_t *tv, *tn;
+    long semi_first_insertions;
+} run;
+
+/* insert 0..N-1 serially in index order with the order given; the arrays copied out */
+static int build(const double *p, enum order o, run *out)
+{
+    kmesh m;
+    kctx c;
+    if (km_init(&m, p, N, 8 * (size_t)N, 1, 0) != GTET_OK) return 0;
+    kctx_init(&c, &m, 7);
+    if (o != SAMPLED) {  /* the sampler never runs: the order stays as set */
+        c.order_left = UINT32_MAX;
+        c.semi_first = o == SEMI_FIRST;
+    }
+    int ok = km_first_tet(&c, 0, 1, 2, 4) == GTET_OK;
+    out->semi_first_insertions = 0;
+    for (uint32_t i = 3; ok && i < N; i++) {
+        if (i == 4) continue;
+        int deferred = 0;
+        ok = km_insert(&c, i, &deferred) == GTET_OK && !deferred;
+        out->semi_first_insertions += c.semi_first;  /* the order this insertion ran with */
+    }
+    out->nt = m.nt;
+    out->tv = malloc(m.nt * 4 * sizeof *out->tv);
+    out->tn = malloc(m.nt * 4 * sizeof *out->tn);
+    memcpy(out->tv, m.tv, m.nt * 4 * sizeof *out->tv);
+    memcpy(out->tn, m.tn, m.nt * 4 * sizeof *out->tn);
+    kctx_free(&c);
+    km_free(&m);
+    return ok;
+}
+
+static void release(run *r)
+{
+    free(r->tv);
+    free(r->tn);
+}
+
+static void test_every_order_builds_the_same_arrays(void)
+{
+    for (int k = 0; k < 2; k++) {
+        const int cluster = k == 0 ? N - 8 : (N - 8) / 2;
+        double *p = points(cluster, k, 11 + (uint64_t)k);
+        run r[3];
+        for (int o = 0; o < 3; o++)
+            TEST_REQUIRE(build(p, (enum order)o, &r[o]), "cluster %d: order %d failed", cluster, o);
+        for (int o = 1; o < 3; o++)
+            TEST_CHECK(r[o].nt == r[0].nt &&
+                           memcmp(r[o].tv, r[0].tv, r[0].nt * 4 * sizeof *r[0].tv) == 0 &&
+                           memcmp(r[o].tn, r[0].tn, r[0].nt * 4 * sizeof *r[0].tn) == 0,
+                       "cluster %d: order %d built other arrays (%zu slots against %zu)",
+                       cluster, o, r[o].nt, r[0].nt);
+        TEST_CHECK(r[1].semi_first_insertions == N - 4, "forced semi-first ran %ld of %d",
+                   r[1].semi_first_insertions, N - 4);
+        for (int o = 0; o < 3; o++) release(&r[o]);
+        free(p);
+    }
+}
+
+static void test_the_sampler_follows_the_static_bound(void)
+{
+#ifndef PRED_INSPHERE_PACKED
+    printf("no packed filter on this target: one order only, nothing to sample\n");
+    return;
+#endif
+    double *tiny = points(N - 8, 0, 21), *spread = points(0, 0, 22);
+    run a, b;
+    TEST_REQUIRE(build(tiny, SAMPLED, &a), "cluster run");
+    TEST_REQUIRE(build(spread, SAMPLED, &b), "uniform run");
+    /* after the first sample the cluster runs semi-static first, uniform points never do */
+    TEST_CHECK(a.semi_first_insertions > (N - 4) * 8 / 10,
+               "a tiny cluster in a large box ran semi-static first for %ld of %d insertions",
+               a.semi_first_insertions, N - 4);
+    TEST_CHECK(b.semi_first_insertions == 0,
+               "uniform points ran semi-static first for %ld insertions", b.semi_first_insertions);
+    release(&a);
+    release(&b);
+    free(tiny);
+    free(spread);
+}
+
+int main(void)
+{
+    TU_RUN(test_every_order_builds_the_same_arrays);
+    TU_RUN(test_the_sampler_follows_the_static_bound);
+    return tu_finish();
+}
