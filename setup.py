@@ -14,6 +14,7 @@ Environment:
 """
 import glob
 import os
+import platform
 import re
 import shlex
 import sys
@@ -48,7 +49,16 @@ def library_sources():
         found = glob.glob(os.path.join("src", "*.c")) + \
             [p for p in glob.glob(os.path.join("src", "*", "*.c"))
              if p.split(os.sep)[1] not in ("cli", "mpi")]
+    found = [os.path.normpath(p) for p in found]
+    if not AVX2_UNIT:
+        found = [p for p in found if p != AVX2_SOURCE]
     return sorted(set(found))
+
+
+# km_insert compiled a second time with AVX2 (CMakeLists.txt GTET_AVX2_TU): on x86-64 this
+# one source gets -mavx2 and the library the macro that makes it call it
+AVX2_SOURCE = os.path.join("src", "kernel", "insert_avx2.c")
+AVX2_UNIT = platform.machine().lower() in ("x86_64", "amd64")
 
 
 def include_dirs():
@@ -101,11 +111,19 @@ class BuildExt(build_ext):
 
 
 def parallel_compile(compiler):
-    """compiler.compile with one process per core (setuptools compiles one file at a time)."""
+    """compiler.compile with one process per core (setuptools compiles one file at a time);
+    AVX2_SOURCE with -mavx2 added."""
     serial = compiler.compile
     needed = ("_setup_compile", "_get_cc_args", "_compile")
     if not all(hasattr(compiler, a) for a in needed):
-        return serial
+        def serial_avx2(sources, *args, extra_postargs=None, **kw):
+            rest = [p for p in sources if os.path.normpath(p) != AVX2_SOURCE]
+            objects = serial(rest, *args, extra_postargs=extra_postargs, **kw)
+            if len(rest) < len(sources):
+                objects += serial([AVX2_SOURCE], *args,
+                                  extra_postargs=list(extra_postargs or []) + ["-mavx2"], **kw)
+            return objects
+        return serial_avx2
     jobs = int(os.environ.get("GTET_PY_JOBS", "0") or 0) or (os.cpu_count() or 1)
 
     def compile_all(sources, output_dir=None, macros=None, include_dirs=None, debug=0,
@@ -116,7 +134,10 @@ def parallel_compile(compiler):
 
         def one(obj):
             src, ext = build[obj]
-            compiler._compile(obj, src, ext, cc_args, extra_postargs, pp_opts)
+            post = extra_postargs
+            if os.path.normpath(src) == AVX2_SOURCE:
+                post = list(extra_postargs or []) + ["-mavx2"]
+            compiler._compile(obj, src, ext, cc_args, post, pp_opts)
 
         with ThreadPoolExecutor(max_workers=jobs) as pool:
             list(pool.map(one, objects))
@@ -132,7 +153,8 @@ ext = Extension(
     sources=[os.path.join("python", "gigatet", "_gigatet.c")] + library_sources(),
     depends=sorted(glob.glob(os.path.join("src", "**", "*.h"), recursive=True)),
     include_dirs=include_dirs(),
-    define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")] + library_macros(),
+    define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")] + library_macros() +
+    ([("GTET_AVX2_TU", "1")] if AVX2_UNIT and AVX2_SOURCE in library_sources() else []),
     # -O3 as CMake's Release build; -fno-wrapv undoes Python's -fwrapv (the kernel's loops
     # are written for C's rules); the library's warnings
     extra_compile_args=["-std=c17", "-O3", "-fno-wrapv", "-fopenmp"] + WARN_FLAGS,

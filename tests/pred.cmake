@@ -8,6 +8,7 @@
 #    (fpenv.h #error), WILL_FAIL; test_fpenv_accepts_default_flags is the control (same
 #    command without -ffast-math must succeed).
 # 3. pred_stage_counts: the stage-count / timing program for NOTES.md, plus a quick ctest.
+# 4. test_pred_packed_filter_avx2 compiled with -mavx2 (at the end).
 set(GTET_PRED_SRC_DIR ${PROJECT_SOURCE_DIR}/src/pred)
 file(GLOB GTET_PRED_SOURCES CONFIGURE_DEPENDS ${GTET_PRED_SRC_DIR}/*.c)
 
@@ -49,3 +50,10 @@ add_executable(pred_stage_counts ${CMAKE_CURRENT_SOURCE_DIR}/pred_stage_counts.c
 target_link_libraries(pred_stage_counts PRIVATE gtet_testutil gigatet_static)
 add_test(NAME test_pred_stage_counts_are_consistent COMMAND pred_stage_counts --quick)
 set_tests_properties(test_pred_stage_counts_are_consistent PROPERTIES TIMEOUT 300)
+
+# 4. test_pred_packed_filter_avx2: test_pred_packed_filter.c compiled with -mavx2, where the
+#    packed filters take four lanes (filter.h pred_insphere_lanes4_, run by
+#    src/kernel/insert_avx2.c); only where the library builds that unit (GTET_AVX2_TU).
+if(GTET_AVX2_TU AND TARGET test_pred_packed_filter_avx2)
+  target_compile_options(test_pred_packed_filter_avx2 PRIVATE -mavx2)
+endif()

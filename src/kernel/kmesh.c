@@ -92,6 +92,11 @@ void kctx_init(kctx *c, kmesh *m, uint64_t seed)
     c->m = m;
     c->rng = seed * 0x9e3779b97f4a7c15ULL + 1;
     c->last_ghost = UINT32_MAX;
+#if defined(GTET_AVX2_TU)
+    /* the AVX2 instances of km_insert when the CPU has AVX2 (the same answers either way) */
+    __builtin_cpu_init();
+    c->avx2 = __builtin_cpu_supports("avx2") != 0;
+#endif
 }
 
 void kctx_free(kctx *c)

@@ -103,6 +103,7 @@ typedef struct kctx {
      * semi-static bound first, else the static test first; a sample of static-first
      * insertions (sampling set) counts the calls the static test leaves undecided */
     uint8_t semi_first, sampling;
+    uint8_t avx2;                 /* km_insert runs the AVX2 instances (insert_avx2.c) */
     uint32_t order_left;          /* insertions before the order is reconsidered */
     uint64_t static_misses, sample_calls0;
 } kctx;

@@ -372,19 +372,139 @@ static inline int pred_insphere_packed_rest_(const pred_is_lanes_ *L, double det
     return (det > eps) - (det < -eps);
 }
 
-/* det~ and the static test on the lanes, then the rest of the scalar filter on their values;
- * *static_misses counts the calls the static test leaves to the rest (the kernel's choice of
- * filter order, kernel/conflict.h). */
+#if defined(__AVX2__)
+#include <immintrin.h>
+/* pred_insphere_filter with four lanes at a time (AVX2; only translation units compiled with
+ * it, kernel/insert_avx2.c): the same answer and the same record, bit for bit, by the same
+ * argument as the two-lane form above (proofs/filters.md section 13).  A lane holds one
+ * vertex's value, in the order (a, c, b, d) that unpacking the loaded pairs gives; rot1 gives
+ * each lane the value of its vertex's successor in a -> b -> c -> d -> a, rot2 of its second
+ * successor.  With v' the successor of v and v'' the second:
+ *     M = X*rot1(Y) - rot1(X)*Y           v's lane: vx*v'y - v'x*vy: (ab, cd, bc, da)
+ *     W = dup(X*rot2(Y) - rot2(X)*Y)       (ac, ac, bd, bd): lanes a and b, each duplicated
+ *     C3 = (Z*rot1(M) - Zn*W) + rot2(Z)*M  (abc, cda, bcd, dab), Zn = rot1(Z) with the lanes
+ *                                          of c and d negated: cz*da - (-dz)*ac is the scalar
+ *                                          cz*da + dz*ac, as in the two-lane form
+ *     lifts (x^2 + y^2) + z^2 per lane; P = lifts*rot1(C3) = (aw*bcd, cw*dab, bw*cda, dw*abc)
+ *     det = (cw*dab - dw*abc) + (aw*bcd - bw*cda): the halves of P subtracted, then added.
+ * Every product and difference is the scalar text's, operand for operand (a product's
+ * operands swapped at most), so signed zeros agree too; the duplication (movedup) and the
+ * negation (xor with -0.0) only move values or flip a sign.
+ * tests/test_pred_packed_filter_avx2.c compares it with the scalar filter. */
+#define PRED_INSPHERE_PACKED4 1
+typedef struct pred_is_lanes4_ {
+    __m256d X, Y, Z, C3;   /* the translated coordinates and the 3x3 minors, lanes a c b d */
+} pred_is_lanes4_;
+
+static inline double pred_insphere_lanes4_(const double *a, const double *b, const double *c,
+                                           const double *d, const double *e, pred_is_lanes4_ *L)
+{
+    const __m256d P = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(a)),
+                                           _mm_loadu_pd(b), 1);   /* ax ay bx by */
+    const __m256d Q = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(c)),
+                                           _mm_loadu_pd(d), 1);   /* cx cy dx dy */
+    const __m256d ex = _mm256_broadcast_sd(e), ey = _mm256_broadcast_sd(e + 1);
+    const __m256d ez = _mm256_broadcast_sd(e + 2);
+    const __m256d X = _mm256_sub_pd(_mm256_unpacklo_pd(P, Q), ex);  /* a c b d */
+    const __m256d Y = _mm256_sub_pd(_mm256_unpackhi_pd(P, Q), ey);
+    const __m256d Z = _mm256_sub_pd(_mm256_set_pd(d[2], b[2], c[2], a[2]), ez);
+    /* rot1: the lane of v gets v's successor's value (a->b->c->d->a): (b, d, c, a) */
+#define PRED_ROT1(v) _mm256_permute4x64_pd((v), 2 | 3 << 2 | 1 << 4 | 0 << 6)
+    /* rot2: v's second successor (c, a, d, b): a swap within each half */
+#define PRED_ROT2(v) _mm256_permute_pd((v), 5)
+    const __m256d M = _mm256_sub_pd(_mm256_mul_pd(X, PRED_ROT1(Y)), _mm256_mul_pd(PRED_ROT1(X), Y));
+    /* (ac, ., bd, .) in lanes a and b, then duplicated: (ac, ac, bd, bd) */
+    const __m256d W = _mm256_movedup_pd(
+        _mm256_sub_pd(_mm256_mul_pd(X, PRED_ROT2(Y)), _mm256_mul_pd(PRED_ROT2(X), Y)));
+    /* the successor's z with lanes c and d negated: (bz, -dz, cz, -az) */
+    const __m256d Zn = _mm256_xor_pd(PRED_ROT1(Z), _mm256_set_pd(-0.0, 0.0, -0.0, 0.0));
+    const __m256d C3 = _mm256_add_pd(
+        _mm256_sub_pd(_mm256_mul_pd(Z, PRED_ROT1(M)), _mm256_mul_pd(Zn, W)),
+        _mm256_mul_pd(PRED_ROT2(Z), M));
+    const __m256d Wl = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(X, X), _mm256_mul_pd(Y, Y)),
+                                     _mm256_mul_pd(Z, Z));
+    const __m256d Pr = _mm256_mul_pd(Wl, PRED_ROT1(C3));   /* aw*bcd cw*dab bw*cda dw*abc */
+#undef PRED_ROT1
+#undef PRED_ROT2
+    const __m128d D = _mm_sub_pd(_mm256_castpd256_pd128(Pr), _mm256_extractf128_pd(Pr, 1));
+    L->X = X;
+    L->Y = Y;
+    L->Z = Z;
+    L->C3 = C3;
+    return _mm_cvtsd_f64(_mm_add_sd(_mm_unpackhi_pd(D, D), D));
+}
+
+/* max |v| over the four lanes (exact, order-free: section 13) */
+static inline double pred_hmax4_(__m256d v)
+{
+    const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+    v = _mm256_and_pd(v, mag);
+    const __m128d h = _mm_max_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
+    return _mm_cvtsd_f64(_mm_max_sd(h, _mm_unpackhi_pd(h, h)));
+}
+
+/* the minors abc, bcd, cda, dab from C3's lanes */
+static inline void pred_insphere_packed4_minors_(const pred_is_lanes4_ *L, double *minors)
+{
+    double t[4];
+    _mm256_storeu_pd(t, L->C3);   /* abc cda bcd dab */
+    minors[0] = t[0];
+    minors[1] = t[2];
+    minors[2] = t[1];
+    minors[3] = t[3];
+}
+
+/* pred_insphere_packed_rest_ on the four lanes' values */
+static inline int pred_insphere_packed4_rest_(const pred_is_lanes4_ *L, double det, double seps,
+                                              double *minors)
+{
+    if (seps == 0) {
+        if (minors) pred_insphere_packed4_minors_(L, minors);
+        return 0;
+    }
+    const double X = pred_hmax4_(L->X), Y = pred_hmax4_(L->Y), Z = pred_hmax4_(L->Z);
+    const double lo = pred_min_(pred_min_(X, Y), Z);
+    const double M = pred_max_(pred_max_(X, Y), Z);
+    if (!(lo >= PRED_IS_LO && M <= PRED_IS_HI)) {
+        if (minors) {
+            pred_insphere_packed4_minors_(L, minors);
+            minors[4] = det;
+            minors[5] = __builtin_inf();
+        }
+        return 0;
+    }
+    const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
+    if (minors && !(det > eps) && !(det < -eps)) {
+        pred_insphere_packed4_minors_(L, minors);
+        minors[4] = det;
+        minors[5] = (((X * Y) * Z) * M) * M;
+    }
+    return (det > eps) - (det < -eps);
+}
+#endif
+
+/* det~ and the static test on the lanes (four where AVX2 is compiled in, else two), then the
+ * rest of the scalar filter on their values; *static_misses counts the calls the static test
+ * leaves to the rest (the kernel's choice of filter order, kernel/conflict.h). */
 static inline int pred_insphere_filter_packed(const double *a, const double *b, const double *c,
                                               const double *d, const double *e, double seps,
                                               double *minors, uint64_t *static_misses)
 {
+#if defined(__AVX2__)
+    pred_is_lanes4_ L;
+    const double det = pred_insphere_lanes4_(a, b, c, d, e, &L);
+    if (det > seps) return 1;
+    if (det < -seps) return -1;
+    ++*static_misses;
+    return pred_insphere_packed4_rest_(&L, det, seps, minors);
+#else
     pred_is_lanes_ L;
     const double det = pred_insphere_lanes_(a, b, c, d, e, &L);
     if (det > seps) return 1;
     if (det < -seps) return -1;
     ++*static_misses;
     return pred_insphere_packed_rest_(&L, det, seps, minors);
+#endif
 }
 
 /* The same filter with the semi-static bound first: the same answer and the same record as
@@ -404,6 +524,19 @@ static inline int pred_insphere_filter_packed_sf(const double *a, const double *
                                                  const double *c, const double *d,
                                                  const double *e, double seps, double *minors)
 {
+#if defined(__AVX2__)
+    pred_is_lanes4_ L;
+    const double det = pred_insphere_lanes4_(a, b, c, d, e, &L);
+    const double X = pred_hmax4_(L.X), Y = pred_hmax4_(L.Y), Z = pred_hmax4_(L.Z);
+    const double lo = pred_min_(pred_min_(X, Y), Z);
+    const double M = pred_max_(pred_max_(X, Y), Z);
+    const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
+    const int guard = (lo >= PRED_IS_LO) & (M <= PRED_IS_HI);
+    const double bound = guard ? pred_min_(eps, seps) : seps;
+    const int s = (det > bound) - (det < -bound);
+    if (__builtin_expect(s == 0, 0)) return pred_insphere_packed4_rest_(&L, det, seps, minors);
+    return s;
+#else
     pred_is_lanes_ L;
     const double det = pred_insphere_lanes_(a, b, c, d, e, &L);
     const __m128d mag = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
@@ -420,6 +553,7 @@ static inline int pred_insphere_filter_packed_sf(const double *a, const double *
     const int s = (det > bound) - (det < -bound);
     if (__builtin_expect(s == 0, 0)) return pred_insphere_packed_rest_(&L, det, seps, minors);
     return s;
+#endif
 }
 #endif
 
