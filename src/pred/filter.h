@@ -507,6 +507,17 @@ static inline int pred_insphere_filter_packed(const double *a, const double *b, 
 #endif
 }
 
+/* the semi-static-first decision from det~ and the maxima X, Y, Z (below) */
+static inline int pred_insphere_sf_decide_(double det, double X, double Y, double Z, double seps)
+{
+    const double lo = pred_min_(pred_min_(X, Y), Z);
+    const double M = pred_max_(pred_max_(X, Y), Z);
+    const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
+    const int guard = (lo >= PRED_IS_LO) & (M <= PRED_IS_HI);
+    const double bound = guard ? pred_min_(eps, seps) : seps;
+    return (det > bound) - (det < -bound);
+}
+
 /* The same filter with the semi-static bound first: the same answer and the same record as
  * pred_insphere_filter, bit for bit, for inputs where the static bound seldom decides (surface
  * samples, spheres: the static test's branch goes either way at random there, and every call
@@ -527,13 +538,8 @@ static inline int pred_insphere_filter_packed_sf(const double *a, const double *
 #if defined(__AVX2__)
     pred_is_lanes4_ L;
     const double det = pred_insphere_lanes4_(a, b, c, d, e, &L);
-    const double X = pred_hmax4_(L.X), Y = pred_hmax4_(L.Y), Z = pred_hmax4_(L.Z);
-    const double lo = pred_min_(pred_min_(X, Y), Z);
-    const double M = pred_max_(pred_max_(X, Y), Z);
-    const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
-    const int guard = (lo >= PRED_IS_LO) & (M <= PRED_IS_HI);
-    const double bound = guard ? pred_min_(eps, seps) : seps;
-    const int s = (det > bound) - (det < -bound);
+    const int s = pred_insphere_sf_decide_(det, pred_hmax4_(L.X), pred_hmax4_(L.Y),
+                                           pred_hmax4_(L.Z), seps);
     if (__builtin_expect(s == 0, 0)) return pred_insphere_packed4_rest_(&L, det, seps, minors);
     return s;
 #else
@@ -543,14 +549,9 @@ static inline int pred_insphere_filter_packed_sf(const double *a, const double *
     const __m128d XY = _mm_max_pd(_mm_max_pd(_mm_and_pd(L.A, mag), _mm_and_pd(L.B, mag)),
                                   _mm_max_pd(_mm_and_pd(L.C, mag), _mm_and_pd(L.D, mag)));
     const __m128d Zs = _mm_max_pd(_mm_and_pd(L.Z1, mag), _mm_and_pd(L.Z2, mag));
-    const double X = _mm_cvtsd_f64(XY), Y = _mm_cvtsd_f64(_mm_unpackhi_pd(XY, XY));
-    const double Z = _mm_cvtsd_f64(_mm_max_sd(Zs, _mm_unpackhi_pd(Zs, Zs)));
-    const double lo = pred_min_(pred_min_(X, Y), Z);
-    const double M = pred_max_(pred_max_(X, Y), Z);
-    const double eps = ((((PRED_IS_C * X) * Y) * Z) * M) * M;
-    const int guard = (lo >= PRED_IS_LO) & (M <= PRED_IS_HI);
-    const double bound = guard ? pred_min_(eps, seps) : seps;
-    const int s = (det > bound) - (det < -bound);
+    const int s = pred_insphere_sf_decide_(
+        det, _mm_cvtsd_f64(XY), _mm_cvtsd_f64(_mm_unpackhi_pd(XY, XY)),
+        _mm_cvtsd_f64(_mm_max_sd(Zs, _mm_unpackhi_pd(Zs, Zs))), seps);
     if (__builtin_expect(s == 0, 0)) return pred_insphere_packed_rest_(&L, det, seps, minors);
     return s;
 #endif
