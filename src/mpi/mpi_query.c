@@ -13,46 +13,79 @@
 /* geometry: conservative circumballs, boxes, halfspaces (proofs/distributed.md D4)           */
 /* ------------------------------------------------------------------------------------------ */
 
+/* The circumcentre's offset o from a (D4's formula) and D = (b-a).((c-a)x(d-a)), with every
+ * operation in type T (double or long double: the same expression, D4's bound with T's unit
+ * roundoff); L2 is the largest squared edge at a. */
+#define TET_CENTRE(T, a, b, cc, d, o, D, L2)                                                   \
+    do {                                                                                       \
+        T ba_[3], ca_[3], da_[3];                                                              \
+        for (int k_ = 0; k_ < 3; k_++) {                                                       \
+            ba_[k_] = (T)(b)[k_] - (T)(a)[k_];                                                 \
+            ca_[k_] = (T)(cc)[k_] - (T)(a)[k_];                                                \
+            da_[k_] = (T)(d)[k_] - (T)(a)[k_];                                                 \
+        }                                                                                      \
+        T lb_ = ba_[0] * ba_[0] + ba_[1] * ba_[1] + ba_[2] * ba_[2];                           \
+        T lc_ = ca_[0] * ca_[0] + ca_[1] * ca_[1] + ca_[2] * ca_[2];                           \
+        T ld_ = da_[0] * da_[0] + da_[1] * da_[1] + da_[2] * da_[2];                           \
+        (L2) = lb_ > lc_ ? lb_ : lc_;                                                          \
+        (L2) = ld_ > (L2) ? ld_ : (L2);                                                        \
+        T x1_[3] = {ca_[1] * da_[2] - ca_[2] * da_[1], ca_[2] * da_[0] - ca_[0] * da_[2],      \
+                    ca_[0] * da_[1] - ca_[1] * da_[0]};                                        \
+        T x2_[3] = {da_[1] * ba_[2] - da_[2] * ba_[1], da_[2] * ba_[0] - da_[0] * ba_[2],      \
+                    da_[0] * ba_[1] - da_[1] * ba_[0]};                                        \
+        T x3_[3] = {ba_[1] * ca_[2] - ba_[2] * ca_[1], ba_[2] * ca_[0] - ba_[0] * ca_[2],      \
+                    ba_[0] * ca_[1] - ba_[1] * ca_[0]};                                        \
+        (D) = ba_[0] * x1_[0] + ba_[1] * x1_[1] + ba_[2] * x1_[2];                             \
+        for (int k_ = 0; k_ < 3; k_++)                                                         \
+            (o)[k_] = (lb_ * x1_[k_] + lc_ * x2_[k_] + ld_ * x3_[k_]) / (2 * (D));             \
+    } while (0)
+
 void mx_tet_ball(const double *a, const double *b, const double *cc, const double *d,
                      ball *B)
 {
-    double ba[3], ca[3], da[3];
-    for (int k = 0; k < 3; k++) {
-        ba[k] = b[k] - a[k];
-        ca[k] = cc[k] - a[k];
-        da[k] = d[k] - a[k];
-    }
-    double lb = ba[0] * ba[0] + ba[1] * ba[1] + ba[2] * ba[2];
-    double lc = ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
-    double ld = da[0] * da[0] + da[1] * da[1] + da[2] * da[2];
-    double L = sqrt(mx_max(lb, mx_max(lc, ld)));
-    double x1[3] = {ca[1] * da[2] - ca[2] * da[1], ca[2] * da[0] - ca[0] * da[2],
-                    ca[0] * da[1] - ca[1] * da[0]};
-    double x2[3] = {da[1] * ba[2] - da[2] * ba[1], da[2] * ba[0] - da[0] * ba[2],
-                    da[0] * ba[1] - da[1] * ba[0]};
-    double x3[3] = {ba[1] * ca[2] - ba[2] * ca[1], ba[2] * ca[0] - ba[0] * ca[2],
-                    ba[0] * ca[1] - ba[1] * ca[0]};
-    double D = ba[0] * x1[0] + ba[1] * x1[1] + ba[2] * x1[2];
+    double o[3], D, L2;
+    TET_CENTRE(double, a, b, cc, d, o, D, L2);
+    double L = sqrt(L2);
     B->all = 1;
     if (!(L >= 1e-100 && L <= 1e100) || !(fabs(D) > 0)) return;
     double cond = L * L * L / fabs(D);
     if (!(cond <= 1e12)) return;
-    double o[3], amax = 0;
-    for (int k = 0; k < 3; k++) {
-        o[k] = (lb * x1[k] + lc * x2[k] + ld * x3[k]) / (2 * D);
-        B->c[k] = a[k] + o[k];
-        amax = mx_max(amax, fabs(a[k]));
-    }
     double R = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
     /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it,
      * 1e-14 (amax + R) the rounding of a + o and |o|, and 1e-9 R that of R and of this sum: a
      * tight ball (the thin lens of a flat tet's huge ball holds many points near its sphere,
      * each an exact test in the answers) */
-    B->r = R * (1 + 1e-9) + 200 * DBL_EPSILON * cond * (R + L) + 1e-14 * (amax + R);
+    double err = 200 * DBL_EPSILON * cond * (R + L), amax = 0;
+    double c[3];
+    if (err > 1e-10 * R && LDBL_EPSILON < DBL_EPSILON) {
+        /* a flat tet (the hull's): its double centre's error bound is the ball's slack, up to
+         * the whole tile's width for a sphere of a million spacings (NOTES.md E200); the same
+         * formula in long double has the same bound with LDBL_EPSILON (D4), and the centre and
+         * radius rounded to double are covered by the 1e-14 and 1e-9 terms as before */
+        long double ol[3], Dl, L2l;
+        TET_CENTRE(long double, a, b, cc, d, ol, Dl, L2l);
+        long double Ll = sqrtl(L2l), condl = Ll * Ll * Ll / fabsl(Dl);
+        if (!(Ll >= 1e-100L && Ll <= 1e100L) || !(fabsl(Dl) > 0) || !(condl <= 1e12L)) return;
+        long double Rl = sqrtl(ol[0] * ol[0] + ol[1] * ol[1] + ol[2] * ol[2]);
+        R = (double)Rl;
+        err = (double)(200 * LDBL_EPSILON * condl * (Rl + Ll));
+        for (int k = 0; k < 3; k++) {
+            c[k] = (double)((long double)a[k] + ol[k]);
+            amax = mx_max(amax, fabs(a[k]));
+        }
+    } else {
+        for (int k = 0; k < 3; k++) {
+            c[k] = a[k] + o[k];
+            amax = mx_max(amax, fabs(a[k]));
+        }
+    }
+    memcpy(B->c, c, sizeof c);
+    B->r = R * (1 + 1e-9) + err + 1e-14 * (amax + R);
     if (!isfinite(B->r) || !isfinite(B->c[0]) || !isfinite(B->c[1]) || !isfinite(B->c[2]))
         return;
     B->all = 0;
 }
+#undef TET_CENTRE
 
 
 /* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box?  (an affine
