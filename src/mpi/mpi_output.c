@@ -371,13 +371,24 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     if (s == GTET_OK)
         for (size_t t = 0; t < nt; t++) {
             const uint32_t *v = tv + 4 * t;
-            if (t + OPF < nt)
-                for (int i = 0; i < 4; i++) __builtin_prefetch(vid + v[4 * OPF + i]);
-            uint32_t lo = v[0];
-            for (int i = 1; i < 4; i++)
-                if (vid[v[i]] < vid[lo]) lo = v[i];
-            /* owned: the smallest vertex is in this tile (D6) */
-            X.lid[t] = lo < m ? (uint32_t)own++ : NOLID;
+            if (t + OPF < nt) {
+                const uint32_t *w = v + 4 * OPF;
+                unsigned tw = (w[0] < m) + (w[1] < m) + (w[2] < m) + (w[3] < m);
+                if (tw != 0 && tw != 4)
+                    for (int i = 0; i < 4; i++) __builtin_prefetch(vid + w[i]);
+            }
+            /* owned: the smallest vertex is in this tile (D6); the vertex ids are read only for
+             * a tet with vertices in and out of the tile (all in: owned; none: not), NOTES.md
+             * E202 */
+            unsigned tin = (v[0] < m) + (v[1] < m) + (v[2] < m) + (v[3] < m);
+            int is_own = tin == 4;
+            if (tin != 0 && tin != 4) {
+                uint32_t lo = v[0];
+                for (int i = 1; i < 4; i++)
+                    if (vid[v[i]] < vid[lo]) lo = v[i];
+                is_own = lo < m;
+            }
+            X.lid[t] = is_own ? (uint32_t)own++ : NOLID;
         }
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
     uint64_t mine = own;
