@@ -115,6 +115,8 @@ typedef struct grid {
                                    start[ci + 1] - 1 (the tile is stored in cell order) */
     float *cb;                  /* per cell: its points' bounding box lo[3], hi[3], rounded
                                    outward (a ball's answer skips the cells it misses) */
+    float *bb;                  /* per block of GB^3 cells: the union of its cells' cb (a
+                                   query's answer skips the blocks it misses, NOTES.md E203) */
     unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at
                                    it can reach another tile's box (mx_grid_far, D11) */
 } grid;

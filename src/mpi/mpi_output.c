@@ -204,9 +204,11 @@ static void release_rounds(run *R)
     memset(&R->sent, 0, sizeof R->sent);
     free(R->gr.start);
     free(R->gr.cb);
+    free(R->gr.bb);
     free(R->gr.far);
     R->gr.start = NULL;
     R->gr.cb = NULL;
+    R->gr.bb = NULL;
     R->gr.far = NULL;
     free(R->prev);
     R->prev = NULL;

@@ -133,14 +133,27 @@ static int hspace_may_reach(const hspace *H, const double *p)
     return !isfinite(v) || v >= -H->tol * len * 4;
 }
 
+/* 1 unless the box (lo[3], hi[3]) is surely on the negative side of H's plane, from its
+ * corner x where the computed normal's function is largest (one evaluation, one square root:
+ * the answers test every block of the grid and every cell of the blocks that pass; the eight
+ * corners' square roots were most of a hull query's answer, NOTES.md E203).  With K = |b-a|
+ * |c-a| and Dmax the largest distance from a to a corner: the computed normal differs from the
+ * exact one by a few eps K and the evaluation at x errs by a few eps K |x - a|, so the exact
+ * orient3d function's maximum over the box, at some corner, exceeds the computed value by at
+ * most ~10 eps K Dmax, far below the 4 tol Dmax = 4e-12 K Dmax the test asks for (D4) */
 static int hspace_meets_box(const hspace *H, const double *lo, const double *hi)
 {
     if (H->all) return 1;
-    for (int m = 0; m < 8; m++) {
-        double x[3] = {(m & 1) ? hi[0] : lo[0], (m & 2) ? hi[1] : lo[1], (m & 4) ? hi[2] : lo[2]};
-        if (hspace_may_reach(H, x)) return 1;
+    double v = 0, d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double x = H->nrm[k] >= 0 ? hi[k] : lo[k];
+        v += H->nrm[k] * (x - H->a[k]);
+        double e = mx_max(fabs(lo[k] - H->a[k]), fabs(hi[k] - H->a[k]));
+        d2 += e * e;
     }
-    return 0;
+    /* a box within 1e-100 of a, or a non-finite value: kept (D4's range) */
+    if (!(d2 >= 1e-200 && d2 <= 1e200)) return 1;
+    return !(v < -4 * H->tol * sqrt(d2) * (1 + 1e-9));
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -192,6 +205,29 @@ static gtet_status cell_boxes(run *R, size_t cells)
             b[3 + k] = hi[k] == -INFINITY ? -INFINITY : float_out(hi[k], 1);
         }
     }
+    /* the blocks' boxes: each the union of its cells' (an empty block keeps lo = +inf, hi =
+     * -inf and is skipped); 24 B a block stays in cache where the cells' boxes do not, and a
+     * block's points' box, unlike its cells' nominal extent, stops short of the tile's faces */
+    size_t nb = (size_t)G->b[0] * (size_t)G->b[1] * (size_t)G->b[2];
+    G->bb = mx_malloc((6 * nb + 1) * sizeof *G->bb);
+    if (!G->bb) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
+    for (size_t bi = 0; bi < nb; bi++)
+        for (int k = 0; k < 3; k++) {
+            G->bb[6 * bi + (size_t)k] = INFINITY;
+            G->bb[6 * bi + 3 + (size_t)k] = -INFINITY;
+        }
+    size_t ci = 0;
+    for (int z = 0; z < G->g[2]; z++)
+        for (int y = 0; y < G->g[1]; y++)
+            for (int x = 0; x < G->g[0]; x++, ci++) {
+                float *b = G->bb + 6 * (((size_t)(z / GB) * (size_t)G->b[1] + (size_t)(y / GB)) *
+                                            (size_t)G->b[0] + (size_t)(x / GB));
+                const float *c = G->cb + 6 * ci;
+                for (int k = 0; k < 3; k++) {
+                    b[k] = c[k] < b[k] ? c[k] : b[k];
+                    b[3 + k] = c[3 + k] > b[3 + k] ? c[3 + k] : b[3 + k];
+                }
+            }
     return GTET_OK;
 }
 
@@ -524,25 +560,20 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
             ball_clip(G, &B, lo, hi);
         }
     }
-    double cw[3];
-    for (int k = 0; k < 3; k++) cw[k] = G->g[k] > 0 && G->inv[k] > 0 ? 1 / G->inv[k] : 0;
     /* blocks of GB^3 cells first: skipped when their box misses the halfspace or the ball (a
      * flat tet near the hull has a huge ball whose cell range is the whole tile) */
     for (int bz = lo[2] / GB; bz <= hi[2] / GB; bz++)
         for (int by = lo[1] / GB; by <= hi[1] / GB; by++)
             for (int bx = lo[0] / GB; bx <= hi[0] / GB; bx++) {
                 int c0[3] = {bx * GB, by * GB, bz * GB};
+                /* the block's points' box (cell_boxes): an empty block is skipped, and a ball
+                 * or halfspace that misses the box misses every point in it */
+                const float *fb = G->bb + 6 * (((size_t)bz * (size_t)G->b[1] + (size_t)by) *
+                                                   (size_t)G->b[0] + (size_t)bx);
+                if (!(fb[0] <= fb[3])) continue;
                 if (hull || !B.all) {
                     double bb[6];   /* lo, hi */
-                    for (int k = 0; k < 3; k++) {
-                        int c1 = c0[k] + GB;
-                        bb[k] = c0[k] == 0 ? G->lo[k] : G->lo[k] + c0[k] * cw[k];
-                        bb[3 + k] = c1 >= G->g[k] ? G->hi[k] : G->lo[k] + c1 * cw[k];
-                        /* the cell formula's rounding: widen by a relative hair */
-                        double w = 1e-9 * (fabs(bb[k]) + fabs(bb[3 + k]) + (bb[3 + k] - bb[k]));
-                        bb[k] -= w;
-                        bb[3 + k] += w;
-                    }
+                    for (int k = 0; k < 6; k++) bb[k] = fb[k];
                     if (hull ? !hspace_meets_box(&H, bb, bb + 3) : !mx_ball_meets_box(&B, bb))
                         continue;
                 }
@@ -554,10 +585,12 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                             if (x < lo[0]) continue;
                             size_t ci = ((size_t)z * (size_t)G->g[1] + (size_t)y) *
                                             (size_t)G->g[0] + (size_t)x;
-                            if (!hull && !B.all && G->start[ci] < G->start[ci + 1]) {
+                            if ((hull || !B.all) && G->start[ci] < G->start[ci + 1]) {
                                 double cb[6];   /* the cell's points' box (cell_boxes) */
                                 for (int k = 0; k < 6; k++) cb[k] = G->cb[6 * ci + (size_t)k];
-                                if (!mx_ball_meets_box(&B, cb)) continue;
+                                if (hull ? !hspace_meets_box(&H, cb, cb + 3)
+                                         : !mx_ball_meets_box(&B, cb))
+                                    continue;
                             }
                             for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) {
                                 const mpt *p = &R->sp[j];

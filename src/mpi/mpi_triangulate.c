@@ -64,6 +64,7 @@ static void run_free(run *R)
     free(R->sent_any);
     free(R->gr.start);
     free(R->gr.cb);
+    free(R->gr.bb);
     free(R->gr.far);
     free(R->prev);
     gtet_mesh_free(&R->mesh);
