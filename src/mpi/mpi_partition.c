@@ -143,10 +143,13 @@ gtet_status mx_step_partition(run *R)
         R->tile = r;
     }
     double bb[7] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY, 0};
+    /* the points are finite (validated): plain comparisons, where fmin and fmax were calls
+     * (NOTES.md E207) */
     for (size_t i = 0; i < R->m; i++)
         for (int k = 0; k < 3; k++) {
-            bb[k] = fmin(bb[k], R->tile[i].x[k]);
-            bb[3 + k] = fmax(bb[3 + k], R->tile[i].x[k]);
+            double x = R->tile[i].x[k];
+            bb[k] = x < bb[k] ? x : bb[k];
+            bb[3 + k] = x > bb[3 + k] ? x : bb[3 + k];
         }
     bb[6] = (double)R->m;
     double *all = mx_malloc(7 * (size_t)P * sizeof *all);
