@@ -1,6 +1,8 @@
 /* mpi_ids.c -- steps 1-3 of gtet_triangulate_mpi: the input index ranges and a NaN/Inf
  * anywhere (validation), duplicates across ranks and the global vertex ids (D1 of
- * proofs/distributed.md), the smallest-id affinely independent simplex (dimension). */
+ * proofs/distributed.md: mx_step_distinct on the partitioned tiles, mx_step_dedup when some
+ * tile holds two equal points), the smallest-id affinely independent simplex of the tiles
+ * (dimension). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -153,6 +155,77 @@ static int first_occurrences(const mpt *rb, size_t m, size_t *first)
     return 0;
 }
 
+/* 1 when two of rb[0..m) have equal coordinates (compared with ==, as point_lt), 0 when
+ * none, -1 out of memory: open addressing on the coordinates' hash, a slot holding the hash's
+ * high 32 bits above the record's index (as first_occurrences); the slots of the records
+ * DUP_AHEAD on are prefetched (the table is larger than the caches: a probe is a miss) */
+#define DUP_AHEAD 16
+static int any_duplicate(const mpt *rb, size_t m)
+{
+    size_t cap = 16;
+    while (cap < 2 * m) cap *= 2;
+    uint64_t *slot = mx_malloc(cap * sizeof *slot);
+    if (!slot) return -1;
+    memset(slot, 0xff, cap * sizeof *slot);
+    const uint64_t lo = 0xffffffffu;
+    uint64_t ring[DUP_AHEAD];
+    for (size_t k = 0; k < m && k < DUP_AHEAD; k++) {
+        ring[k] = hash_point(rb[k].x);
+        __builtin_prefetch(slot + (ring[k] & (cap - 1)), 1);
+    }
+    int dup = 0;
+    for (size_t k = 0; k < m && !dup; k++) {
+        uint64_t h = ring[k % DUP_AHEAD], tag = h & ~lo;
+        if (k + DUP_AHEAD < m) {
+            uint64_t h2 = hash_point(rb[k + DUP_AHEAD].x);
+            ring[k % DUP_AHEAD] = h2;
+            __builtin_prefetch(slot + (h2 & (cap - 1)), 1);
+        }
+        size_t j = (size_t)h & (cap - 1);
+        while (slot[j] != UINT64_MAX) {
+            if ((slot[j] & ~lo) == tag && point_lt(rb[slot[j] & lo].x, rb[k].x) == 0) {
+                dup = 1;
+                break;
+            }
+            j = (j + 1) & (cap - 1);
+        }
+        slot[j] = tag | k;
+    }
+    free(slot);
+    return dup;
+}
+
+/* The duplicate-free path (NOTES.md E201): the partition ran on the caller's points with their
+ * input indices, and equal points go to one tile (the kd tree's tests are comparisons, equal
+ * coordinates compare alike, -0.0 == +0.0), so "no tile holds two equal points" (an
+ * Allreduce(MAX)) is "no duplicate anywhere".  Then every point is its own first occurrence and
+ * its vertex id is its input index (D1's numbering with no duplicate), R->tile is already the
+ * tile of first occurrences, and the hashing of every point to a rank and its exchange
+ * (mx_step_dedup) are not needed.  *dups = 1 when some tile holds two equal points: the caller
+ * then runs mx_step_dedup and partitions the first occurrences again. */
+gtet_status mx_step_distinct(run *R, int *dups)
+{
+    mctx *c = &R->c;
+    gtet_status s = GTET_OK;
+    int dup = R->m > 1 ? any_duplicate(R->tile, R->m) : 0, gdup = 0;
+    if (dup < 0) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) != GTET_OK) return s;
+    MPI_Allreduce(&dup, &gdup, 1, MPI_INT, MPI_MAX, c->comm);
+    *dups = gdup;
+    if (gdup) {
+        free(R->tile);
+        R->tile = NULL;
+        R->m = 0;
+        return GTET_OK;
+    }
+    R->V = R->N;
+    R->imap = mx_malloc((R->n + 1) * sizeof *R->imap);
+    if (!R->imap) s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if ((s = mx_agree(c, s)) != GTET_OK) return s;
+    for (size_t i = 0; i < R->n; i++) R->imap[i] = R->first + i;
+    return GTET_OK;
+}
+
 gtet_status mx_step_dedup(run *R)
 {
     mctx *c = &R->c;
@@ -302,8 +375,8 @@ gtet_status mx_step_dimension(run *R)
     static const char *what[3] = {"all the same point", "all collinear", "all coplanar"};
     for (int stage = 0; stage < 4; stage++) {
         mpt best = {{0, 0, 0}, NOID};
-        for (size_t i = 0; i < R->nf; i++)
-            if (R->fp[i].id < best.id && seed_ok(R, stage, R->fp[i].x)) best = R->fp[i];
+        for (size_t i = 0; i < R->m; i++)
+            if (R->tile[i].id < best.id && seed_ok(R, stage, R->tile[i].x)) best = R->tile[i];
         MPI_Allgather(&best, (int)sizeof best, MPI_BYTE, all, (int)sizeof best, MPI_BYTE,
                       c->comm);
         best.id = NOID;
@@ -320,5 +393,6 @@ gtet_status mx_step_dimension(run *R)
         R->seed[stage] = best;
     }
     free(all);
+    for (int k = 0; k < 4; k++) R->seed_rank[k] = mx_kd_rank(R, R->seed[k].x);
     return GTET_OK;
 }

@@ -115,6 +115,8 @@ typedef struct grid {
                                    start[ci + 1] - 1 (the tile is stored in cell order) */
     float *cb;                  /* per cell: its points' bounding box lo[3], hi[3], rounded
                                    outward (a ball's answer skips the cells it misses) */
+    float *bb;                  /* per block of GB^3 cells: the union of its cells' cb (a
+                                   query's answer skips the blocks it misses, NOTES.md E203) */
     unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at
                                    it can reach another tile's box (mx_grid_far, D11) */
 } grid;
@@ -193,11 +195,18 @@ int mx_hs_add(hset *h, uint64_t key);         /* 1 inserted, 0 present, -1 out o
 int mx_hs_has(const hset *h, uint64_t key);
 void *mx_vec_push(vec *v);                    /* room for one more record, or NULL */
 
+/* the rank (tile) of point x in the partition's kd tree (mpi_partition.c) */
+int mx_kd_rank(const run *R, const double *x);
+
 /* the steps, in order; each returns this rank's status (the caller agrees on it) */
 gtet_status mx_step_validate(run *R);                     /* 1: ranges, NaN/Inf */
+gtet_status mx_step_partition(run *R);                    /* 4: kd tiles, R->tile, boxes (of
+                                                             R->fp or, first, of R->xyz) */
+gtet_status mx_step_distinct(run *R, int *dups);          /* 2: no duplicate in any tile:
+                                                             ids = input indices (D1) */
 gtet_status mx_step_dedup(run *R);                        /* 2: duplicates, vertex ids (D1) */
-gtet_status mx_step_dimension(run *R);                    /* 3: R->seed, or degenerate */
-gtet_status mx_step_partition(run *R);                    /* 4: kd tiles, R->tile, boxes */
+gtet_status mx_step_dimension(run *R);                    /* 3: R->seed of the tiles, or
+                                                             degenerate */
 gtet_status mx_step_seed(run *R, double layer);           /* 5: S = tile + seeded ghosts */
 gtet_status mx_step_rounds(run *R);                       /* 6: rounds until no new point */
 gtet_status mx_step_output(run *R, gtet_mpi_result *res); /* 7: owned tets, neighbours */

@@ -25,29 +25,38 @@ static int cmp_frec_idx(const void *a, const void *b)
     return x->tet < y->tet ? -1 : x->tet > y->tet;
 }
 
-/* a[0..n) by id: LSD radix sort, 8-bit digits, as many as the largest id needs (3 passes up to
- * 2^24 vertices; the tests' few thousand take 2, tiny sets 1), where qsort was 3.5 % of a
- * rank's instructions; -1 out of memory */
+/* a[0..n) by id: LSD radix sort, 11-bit digits, as many as the largest id needs (2 passes up
+ * to 2^22 vertices, 3 up to 2^33; NOTES.md E206: 8-bit digits took 3 passes from 2^16 on), where
+ * qsort was 3.5 % of a rank's instructions; -1 out of memory */
+#define RADIX_BITS 11
 static int sort_by_id(mpt *a, size_t n)
 {
     uint64_t top = 0;
     for (size_t i = 0; i < n; i++) top = a[i].id > top ? a[i].id : top;
     mpt *b = mx_malloc((n + 1) * sizeof *b);
-    if (!b) return -1;
+    size_t *cnt = mx_malloc(((1u << RADIX_BITS) + 1) * sizeof *cnt);
+    if (!b || !cnt) {
+        free(b);
+        free(cnt);
+        return -1;
+    }
+    const uint64_t mask = (1u << RADIX_BITS) - 1;
     mpt *src = a, *dst = b;
-    for (int sh = 0; sh < 64 && (sh == 0 || (top >> sh) != 0); sh += 8) {
-        size_t cnt[257] = {0};
-        for (size_t i = 0; i < n; i++) cnt[((src[i].id >> sh) & 0xff) + 1]++;
-        for (int d = 0; d < 256; d++) cnt[d + 1] += cnt[d];
-        for (size_t i = 0; i < n; i++) dst[cnt[(src[i].id >> sh) & 0xff]++] = src[i];
+    for (int sh = 0; sh < 64 && (sh == 0 || (top >> sh) != 0); sh += RADIX_BITS) {
+        memset(cnt, 0, ((1u << RADIX_BITS) + 1) * sizeof *cnt);
+        for (size_t i = 0; i < n; i++) cnt[((src[i].id >> sh) & mask) + 1]++;
+        for (size_t d = 0; d < mask + 1; d++) cnt[d + 1] += cnt[d];
+        for (size_t i = 0; i < n; i++) dst[cnt[(src[i].id >> sh) & mask]++] = src[i];
         mpt *t = src;
         src = dst;
         dst = t;
     }
     if (src != a) memcpy(a, src, n * sizeof *a);
     free(b);
+    free(cnt);
     return 0;
 }
+#undef RADIX_BITS
 
 #define NOLID UINT32_MAX
 
@@ -204,9 +213,11 @@ static void release_rounds(run *R)
     memset(&R->sent, 0, sizeof R->sent);
     free(R->gr.start);
     free(R->gr.cb);
+    free(R->gr.bb);
     free(R->gr.far);
     R->gr.start = NULL;
     R->gr.cb = NULL;
+    R->gr.bb = NULL;
     R->gr.far = NULL;
     free(R->prev);
     R->prev = NULL;
@@ -371,13 +382,24 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     if (s == GTET_OK)
         for (size_t t = 0; t < nt; t++) {
             const uint32_t *v = tv + 4 * t;
-            if (t + OPF < nt)
-                for (int i = 0; i < 4; i++) __builtin_prefetch(vid + v[4 * OPF + i]);
-            uint32_t lo = v[0];
-            for (int i = 1; i < 4; i++)
-                if (vid[v[i]] < vid[lo]) lo = v[i];
-            /* owned: the smallest vertex is in this tile (D6) */
-            X.lid[t] = lo < m ? (uint32_t)own++ : NOLID;
+            if (t + OPF < nt) {
+                const uint32_t *w = v + 4 * OPF;
+                unsigned tw = (w[0] < m) + (w[1] < m) + (w[2] < m) + (w[3] < m);
+                if (tw != 0 && tw != 4)
+                    for (int i = 0; i < 4; i++) __builtin_prefetch(vid + w[i]);
+            }
+            /* owned: the smallest vertex is in this tile (D6); the vertex ids are read only for
+             * a tet with vertices in and out of the tile (all in: owned; none: not), NOTES.md
+             * E202 */
+            unsigned tin = (v[0] < m) + (v[1] < m) + (v[2] < m) + (v[3] < m);
+            int is_own = tin == 4;
+            if (tin != 0 && tin != 4) {
+                uint32_t lo = v[0];
+                for (int i = 1; i < 4; i++)
+                    if (vid[v[i]] < vid[lo]) lo = v[i];
+                is_own = lo < m;
+            }
+            X.lid[t] = is_own ? (uint32_t)own++ : NOLID;
         }
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
     uint64_t mine = own;

@@ -55,12 +55,24 @@ static int kd_build(run *R, double *smp, size_t ns, int lo, int hi)
     return id;
 }
 
-static int kd_rank(const run *R, const double *x)
+int mx_kd_rank(const run *R, const double *x)
 {
     int id = 0;
     while (R->kd[id].leaf < 0)
         id = x[R->kd[id].axis] < R->kd[id].split ? R->kd[id].left : R->kd[id].right;
     return R->kd[id].leaf;
+}
+
+/* the partition's i-th point: a first occurrence (R->fp, after mx_step_dedup) or, on the
+ * duplicate-free path, the caller's point with its global input index (E201) */
+static void part_point(const run *R, size_t i, mpt *p)
+{
+    if (R->fp) {
+        *p = R->fp[i];
+    } else {
+        memcpy(p->x, R->xyz + 3 * i, sizeof p->x);
+        p->id = R->first + i;
+    }
 }
 
 gtet_status mx_step_partition(run *R)
@@ -70,9 +82,16 @@ gtet_status mx_step_partition(run *R)
     gtet_status s = GTET_OK;
     size_t S = 2048 * (size_t)P;
     if (S > ((size_t)1 << 20)) S = (size_t)1 << 20;
-    size_t mine = R->nf;
-    if (R->V > S) mine = (size_t)(((uint64_t)R->nf * S + R->V - 1) / R->V);
-    if (mine > R->nf) mine = R->nf;
+    /* this rank's points (nf) out of V in all: the first occurrences, or all the points */
+    size_t nf = R->fp ? R->nf : R->n;
+    uint64_t V = R->fp ? R->V : R->N;
+    size_t mine = nf;
+    if (V > S) mine = (size_t)(((uint64_t)nf * S + V - 1) / V);
+    if (mine > nf) mine = nf;
+    /* a second partition (after duplicates were found: mx_step_distinct) replaces the first */
+    free(R->kd);
+    free(R->box);
+    free(R->tcount);
     int *cnt = mx_malloc(2 * (size_t)P * sizeof *cnt);
     double *my = mx_malloc((3 * mine + 1) * sizeof *my);
     R->kd = mx_malloc(2 * (size_t)P * sizeof *R->kd);
@@ -81,14 +100,16 @@ gtet_status mx_step_partition(run *R)
     double *smp = NULL;
     size_t *scnt = mx_calloc((size_t)P, sizeof *scnt), *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
     size_t *pos = mx_calloc((size_t)P + 1, sizeof *pos);
-    int *dst = mx_malloc(R->nf * sizeof *dst);
-    mpt *sb = mx_malloc(R->nf * sizeof *sb);
+    int *dst = mx_malloc((nf + 1) * sizeof *dst);
+    mpt *sb = mx_malloc((nf + 1) * sizeof *sb);
     if (!cnt || !my || !R->kd || !R->box || !R->tcount || !scnt || !rcnt || !pos || !dst || !sb)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
     for (size_t k = 0; k < mine; k++) {
-        size_t i = (size_t)((double)k * (double)R->nf / (double)mine);
-        memcpy(my + 3 * k, R->fp[i].x, 3 * sizeof(double));
+        size_t i = (size_t)((double)k * (double)nf / (double)mine);
+        mpt p;
+        part_point(R, i, &p);
+        memcpy(my + 3 * k, p.x, 3 * sizeof(double));
     }
     int mi = (int)(3 * mine);
     MPI_Allgather(&mi, 1, MPI_INT, cnt, 1, MPI_INT, c->comm);
@@ -103,12 +124,14 @@ gtet_status mx_step_partition(run *R)
     MPI_Allgatherv(my, mi, MPI_DOUBLE, smp, cnt, cnt + P, MPI_DOUBLE, c->comm);
     R->nkd = 0;
     kd_build(R, smp, tot / 3, 0, P);
-    for (size_t i = 0; i < R->nf; i++) {
-        dst[i] = kd_rank(R, R->fp[i].x);
+    for (size_t i = 0; i < nf; i++) {
+        mpt p;
+        part_point(R, i, &p);
+        dst[i] = mx_kd_rank(R, p.x);
         scnt[dst[i]]++;
     }
     for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + scnt[q];
-    for (size_t i = 0; i < R->nf; i++) sb[pos[dst[i]]++] = R->fp[i];
+    for (size_t i = 0; i < nf; i++) part_point(R, i, &sb[pos[dst[i]]++]);
     /* the first occurrences are in sb now and no later step reads them: their block can take
      * the tile the exchange receives instead of fresh memory (NOTES.md Q14, E121) */
     free(R->fp);
@@ -119,12 +142,14 @@ gtet_status mx_step_partition(run *R)
             goto done;
         R->tile = r;
     }
-    for (int k = 0; k < 4; k++) R->seed_rank[k] = kd_rank(R, R->seed[k].x);
     double bb[7] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY, 0};
+    /* the points are finite (validated): plain comparisons, where fmin and fmax were calls
+     * (NOTES.md E207) */
     for (size_t i = 0; i < R->m; i++)
         for (int k = 0; k < 3; k++) {
-            bb[k] = fmin(bb[k], R->tile[i].x[k]);
-            bb[3 + k] = fmax(bb[3 + k], R->tile[i].x[k]);
+            double x = R->tile[i].x[k];
+            bb[k] = x < bb[k] ? x : bb[k];
+            bb[3 + k] = x > bb[3 + k] ? x : bb[3 + k];
         }
     bb[6] = (double)R->m;
     double *all = mx_malloc(7 * (size_t)P * sizeof *all);

@@ -141,15 +141,15 @@ static int cavity_facets(const patch *X, fmap *B, size_t *nkept_facets)
     return 1;
 }
 
-/* the tet of DT(W) on the other side of kept tet K's facet f than K, or NONE */
-static uint32_t inner_tet(const patch *X, const fmap *WF, uint32_t h)
+/* the tet of DT(W) on the other side of kept tet K's facet f than K (h = 4K + f), or NONE;
+ * g: a facet of DT(W) with K's facet's vertices (4 w + slot), or NONE when DT(W) has none */
+static uint32_t inner_tet(const patch *X, uint32_t g, uint32_t h)
 {
     const mpt *sp = X->R->sp;
     const uint32_t *v = X->tv + 4 * (h / 4), *wt = gtet_mesh_tets(X->wm);
     const uint32_t *wn = gtet_mesh_neighbors(X->wm);
     uint32_t k[3], a[3];
     facet_key(v, (int)(h % 4), k);
-    uint32_t g = fm_get(WF, k);
     if (g >= NONE - 1) return NONE;
     for (int i = 0; i < 3; i++) a[i] = k[i];
     int sk = gtet_orient3d(sp[a[0]].x, sp[a[1]].x, sp[a[2]].x, sp[v[h % 4]].x);
@@ -167,9 +167,31 @@ static uint32_t inner_tet(const patch *X, const fmap *WF, uint32_t h)
     return NONE;
 }
 
+/* bw[j] for each slot j of B: a facet of DT(W) (4 w + slot) with slot j's key, or NONE.  DT(W)'s
+ * facets are looked up in B rather than put in a map of their own: B holds the cavity's
+ * facets, a few per tet of C, where DT(W) has 4 a tet (a map of those was 16 B x 16 a tet of
+ * DT(W), touched at random, NOTES.md E204); the last of DT(W)'s facets with a key is kept, as
+ * that map kept it */
+static void w_facets(const patch *X, const fmap *B, uint32_t *bw)
+{
+    size_t nwt = gtet_mesh_num_tets(X->wm);
+    const uint32_t *wt = gtet_mesh_tets(X->wm);
+    for (size_t j = 0; j < B->cap; j++) bw[j] = NONE;
+    for (size_t w = 0; w < nwt; w++) {
+        uint32_t sv[4];
+        for (int i = 0; i < 4; i++) sv[i] = X->ws[wt[4 * w + i]];
+        for (int g = 0; g < 4; g++) {
+            uint32_t k[3];
+            facet_key(sv, g, k);
+            size_t j = fm_slot(B, k);
+            if (B->k[4 * j] != NONE) bw[j] = (uint32_t)(4 * w + (size_t)g);
+        }
+    }
+}
+
 /* the flood over DT(W) from the kept cavity facets: fid[w] = its index among the new tets, or
  * NONE; 1 consistent, 0 not (fall back) */
-static int flood(const patch *X, const fmap *B, const fmap *WF, size_t nkf, uint32_t *fid,
+static int flood(const patch *X, const fmap *B, const uint32_t *bw, size_t nkf, uint32_t *fid,
                  uint32_t *stack, size_t *nnew)
 {
     size_t nwt = gtet_mesh_num_tets(X->wm), top = 0, linked = 0;
@@ -180,7 +202,7 @@ static int flood(const patch *X, const fmap *B, const fmap *WF, size_t nkf, uint
     for (size_t i = 0; i < B->cap; i++) {
         uint32_t h = B->k[4 * i + 3];
         if (B->k[4 * i] == NONE || h == NONE) continue;
-        uint32_t w = inner_tet(X, WF, h);
+        uint32_t w = inner_tet(X, bw[i], h);
         if (w == NONE) return 0;
         if (fid[w] == NONE) {
             fid[w] = (uint32_t)(*nnew)++;
@@ -193,13 +215,14 @@ static int flood(const patch *X, const fmap *B, const fmap *WF, size_t nkf, uint
             uint32_t k[3], sv[4];
             for (int i = 0; i < 4; i++) sv[i] = X->ws[wt[4 * (size_t)w + i]];
             facet_key(sv, g, k);
-            uint32_t b = fm_get(B, k);
+            size_t j = fm_slot(B, k);
+            uint32_t b = B->k[4 * j] == NONE ? NONE - 1 : B->k[4 * j + 3];
             if (b == NONE) {            /* stays a hull facet */
                 if (wn[4 * (size_t)w + g] != GTET_NO_TET) return 0;
                 continue;
             }
             if (b != NONE - 1) {        /* a kept tet's facet */
-                if (inner_tet(X, WF, b) != w) return 0;
+                if (inner_tet(X, bw[j], b) != w) return 0;
                 linked++;
                 continue;
             }
@@ -343,8 +366,8 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
         R->qfrom = X.nt;    /* and every tet of it was decided before */
         return GTET_OK;
     }
-    fmap B = {NULL, 0}, WF = {NULL, 0};
-    uint32_t *fid = NULL, *stack = NULL;
+    fmap B = {NULL, 0};
+    uint32_t *fid = NULL, *stack = NULL, *bw = NULL;
     int ok = -1;
     X.cf = mx_calloc(X.nt + 1, 1);
     X.wid = mx_malloc((R->ns + 1) * sizeof *X.wid);
@@ -359,28 +382,19 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
     ok = -1;
     size_t nwt = gtet_mesh_num_tets(X.wm);
     for (B.cap = 64; B.cap < 8 * (4 * nc + 16); B.cap *= 2) {}
-    for (WF.cap = 64; WF.cap < 4 * (4 * nwt + 16); WF.cap *= 2) {}
     B.k = mx_malloc(4 * B.cap * sizeof *B.k);
-    WF.k = mx_malloc(4 * WF.cap * sizeof *WF.k);
+    bw = mx_malloc(B.cap * sizeof *bw);
     fid = mx_malloc((nwt + 1) * sizeof *fid);
     stack = mx_malloc((nwt + 1) * sizeof *stack);
-    if (!B.k || !WF.k || !fid || !stack) goto out;
+    if (!B.k || !bw || !fid || !stack) goto out;
     memset(B.k, 0xff, 4 * B.cap * sizeof *B.k);
-    memset(WF.k, 0xff, 4 * WF.cap * sizeof *WF.k);
     size_t nkf, nnew;
     if (!cavity_facets(&X, &B, &nkf)) {
         ok = 0;
         goto out;
     }
-    const uint32_t *wt = gtet_mesh_tets(X.wm);
-    for (size_t w = 0; w < nwt; w++)
-        for (int g = 0; g < 4; g++) {
-            uint32_t sv[4], k[3];
-            for (int i = 0; i < 4; i++) sv[i] = X.ws[wt[4 * w + i]];
-            facet_key(sv, g, k);
-            fm_put(&WF, k, (uint32_t)(4 * w + (size_t)g));
-        }
-    ok = flood(&X, &B, &WF, nkf, fid, stack, &nnew);
+    w_facets(&X, &B, bw);
+    ok = flood(&X, &B, bw, nkf, fid, stack, &nnew);
     if (ok == 1) ok = merge(&X, &B, fid, nnew);
     if (ok == 1) *done = 1;
 out:
@@ -389,7 +403,7 @@ out:
     free(X.ws);
     gtet_mesh_free(&X.wm);
     free(B.k);
-    free(WF.k);
+    free(bw);
     free(fid);
     free(stack);
     return ok < 0 ? mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory") : GTET_OK;

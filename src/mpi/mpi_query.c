@@ -13,46 +13,79 @@
 /* geometry: conservative circumballs, boxes, halfspaces (proofs/distributed.md D4)           */
 /* ------------------------------------------------------------------------------------------ */
 
+/* The circumcentre's offset o from a (D4's formula) and D = (b-a).((c-a)x(d-a)), with every
+ * operation in type T (double or long double: the same expression, D4's bound with T's unit
+ * roundoff); L2 is the largest squared edge at a. */
+#define TET_CENTRE(T, a, b, cc, d, o, D, L2)                                                   \
+    do {                                                                                       \
+        T ba_[3], ca_[3], da_[3];                                                              \
+        for (int k_ = 0; k_ < 3; k_++) {                                                       \
+            ba_[k_] = (T)(b)[k_] - (T)(a)[k_];                                                 \
+            ca_[k_] = (T)(cc)[k_] - (T)(a)[k_];                                                \
+            da_[k_] = (T)(d)[k_] - (T)(a)[k_];                                                 \
+        }                                                                                      \
+        T lb_ = ba_[0] * ba_[0] + ba_[1] * ba_[1] + ba_[2] * ba_[2];                           \
+        T lc_ = ca_[0] * ca_[0] + ca_[1] * ca_[1] + ca_[2] * ca_[2];                           \
+        T ld_ = da_[0] * da_[0] + da_[1] * da_[1] + da_[2] * da_[2];                           \
+        (L2) = lb_ > lc_ ? lb_ : lc_;                                                          \
+        (L2) = ld_ > (L2) ? ld_ : (L2);                                                        \
+        T x1_[3] = {ca_[1] * da_[2] - ca_[2] * da_[1], ca_[2] * da_[0] - ca_[0] * da_[2],      \
+                    ca_[0] * da_[1] - ca_[1] * da_[0]};                                        \
+        T x2_[3] = {da_[1] * ba_[2] - da_[2] * ba_[1], da_[2] * ba_[0] - da_[0] * ba_[2],      \
+                    da_[0] * ba_[1] - da_[1] * ba_[0]};                                        \
+        T x3_[3] = {ba_[1] * ca_[2] - ba_[2] * ca_[1], ba_[2] * ca_[0] - ba_[0] * ca_[2],      \
+                    ba_[0] * ca_[1] - ba_[1] * ca_[0]};                                        \
+        (D) = ba_[0] * x1_[0] + ba_[1] * x1_[1] + ba_[2] * x1_[2];                             \
+        for (int k_ = 0; k_ < 3; k_++)                                                         \
+            (o)[k_] = (lb_ * x1_[k_] + lc_ * x2_[k_] + ld_ * x3_[k_]) / (2 * (D));             \
+    } while (0)
+
 void mx_tet_ball(const double *a, const double *b, const double *cc, const double *d,
                      ball *B)
 {
-    double ba[3], ca[3], da[3];
-    for (int k = 0; k < 3; k++) {
-        ba[k] = b[k] - a[k];
-        ca[k] = cc[k] - a[k];
-        da[k] = d[k] - a[k];
-    }
-    double lb = ba[0] * ba[0] + ba[1] * ba[1] + ba[2] * ba[2];
-    double lc = ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
-    double ld = da[0] * da[0] + da[1] * da[1] + da[2] * da[2];
-    double L = sqrt(mx_max(lb, mx_max(lc, ld)));
-    double x1[3] = {ca[1] * da[2] - ca[2] * da[1], ca[2] * da[0] - ca[0] * da[2],
-                    ca[0] * da[1] - ca[1] * da[0]};
-    double x2[3] = {da[1] * ba[2] - da[2] * ba[1], da[2] * ba[0] - da[0] * ba[2],
-                    da[0] * ba[1] - da[1] * ba[0]};
-    double x3[3] = {ba[1] * ca[2] - ba[2] * ca[1], ba[2] * ca[0] - ba[0] * ca[2],
-                    ba[0] * ca[1] - ba[1] * ca[0]};
-    double D = ba[0] * x1[0] + ba[1] * x1[1] + ba[2] * x1[2];
+    double o[3], D, L2;
+    TET_CENTRE(double, a, b, cc, d, o, D, L2);
+    double L = sqrt(L2);
     B->all = 1;
     if (!(L >= 1e-100 && L <= 1e100) || !(fabs(D) > 0)) return;
     double cond = L * L * L / fabs(D);
     if (!(cond <= 1e12)) return;
-    double o[3], amax = 0;
-    for (int k = 0; k < 3; k++) {
-        o[k] = (lb * x1[k] + lc * x2[k] + ld * x3[k]) / (2 * D);
-        B->c[k] = a[k] + o[k];
-        amax = mx_max(amax, fabs(a[k]));
-    }
     double R = sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
     /* the centre's floating error is below 42 eps cond R (D4); 200 eps cond (R + L) covers it,
      * 1e-14 (amax + R) the rounding of a + o and |o|, and 1e-9 R that of R and of this sum: a
      * tight ball (the thin lens of a flat tet's huge ball holds many points near its sphere,
      * each an exact test in the answers) */
-    B->r = R * (1 + 1e-9) + 200 * DBL_EPSILON * cond * (R + L) + 1e-14 * (amax + R);
+    double err = 200 * DBL_EPSILON * cond * (R + L), amax = 0;
+    double c[3];
+    if (err > 1e-10 * R && LDBL_EPSILON < DBL_EPSILON) {
+        /* a flat tet (the hull's): its double centre's error bound is the ball's slack, up to
+         * the whole tile's width for a sphere of a million spacings (NOTES.md E200); the same
+         * formula in long double has the same bound with LDBL_EPSILON (D4), and the centre and
+         * radius rounded to double are covered by the 1e-14 and 1e-9 terms as before */
+        long double ol[3], Dl, L2l;
+        TET_CENTRE(long double, a, b, cc, d, ol, Dl, L2l);
+        long double Ll = sqrtl(L2l), condl = Ll * Ll * Ll / fabsl(Dl);
+        if (!(Ll >= 1e-100L && Ll <= 1e100L) || !(fabsl(Dl) > 0) || !(condl <= 1e12L)) return;
+        long double Rl = sqrtl(ol[0] * ol[0] + ol[1] * ol[1] + ol[2] * ol[2]);
+        R = (double)Rl;
+        err = (double)(200 * LDBL_EPSILON * condl * (Rl + Ll));
+        for (int k = 0; k < 3; k++) {
+            c[k] = (double)((long double)a[k] + ol[k]);
+            amax = mx_max(amax, fabs(a[k]));
+        }
+    } else {
+        for (int k = 0; k < 3; k++) {
+            c[k] = a[k] + o[k];
+            amax = mx_max(amax, fabs(a[k]));
+        }
+    }
+    memcpy(B->c, c, sizeof c);
+    B->r = R * (1 + 1e-9) + err + 1e-14 * (amax + R);
     if (!isfinite(B->r) || !isfinite(B->c[0]) || !isfinite(B->c[1]) || !isfinite(B->c[2]))
         return;
     B->all = 0;
 }
+#undef TET_CENTRE
 
 
 /* exact: does the closed halfspace {orient3d(a,b,c,x) >= 0} meet the box?  (an affine
@@ -100,14 +133,27 @@ static int hspace_may_reach(const hspace *H, const double *p)
     return !isfinite(v) || v >= -H->tol * len * 4;
 }
 
+/* 1 unless the box (lo[3], hi[3]) is surely on the negative side of H's plane, from its
+ * corner x where the computed normal's function is largest (one evaluation, one square root:
+ * the answers test every block of the grid and every cell of the blocks that pass; the eight
+ * corners' square roots were most of a hull query's answer, NOTES.md E203).  With K = |b-a|
+ * |c-a| and Dmax the largest distance from a to a corner: the computed normal differs from the
+ * exact one by a few eps K and the evaluation at x errs by a few eps K |x - a|, so the exact
+ * orient3d function's maximum over the box, at some corner, exceeds the computed value by at
+ * most ~10 eps K Dmax, far below the 4 tol Dmax = 4e-12 K Dmax the test asks for (D4) */
 static int hspace_meets_box(const hspace *H, const double *lo, const double *hi)
 {
     if (H->all) return 1;
-    for (int m = 0; m < 8; m++) {
-        double x[3] = {(m & 1) ? hi[0] : lo[0], (m & 2) ? hi[1] : lo[1], (m & 4) ? hi[2] : lo[2]};
-        if (hspace_may_reach(H, x)) return 1;
+    double v = 0, d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double x = H->nrm[k] >= 0 ? hi[k] : lo[k];
+        v += H->nrm[k] * (x - H->a[k]);
+        double e = mx_max(fabs(lo[k] - H->a[k]), fabs(hi[k] - H->a[k]));
+        d2 += e * e;
     }
-    return 0;
+    /* a box within 1e-100 of a, or a non-finite value: kept (D4's range) */
+    if (!(d2 >= 1e-200 && d2 <= 1e200)) return 1;
+    return !(v < -4 * H->tol * sqrt(d2) * (1 + 1e-9));
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -159,9 +205,33 @@ static gtet_status cell_boxes(run *R, size_t cells)
             b[3 + k] = hi[k] == -INFINITY ? -INFINITY : float_out(hi[k], 1);
         }
     }
+    /* the blocks' boxes: each the union of its cells' (an empty block keeps lo = +inf, hi =
+     * -inf and is skipped); 24 B a block stays in cache where the cells' boxes do not, and a
+     * block's points' box, unlike its cells' nominal extent, stops short of the tile's faces */
+    size_t nb = (size_t)G->b[0] * (size_t)G->b[1] * (size_t)G->b[2];
+    G->bb = mx_malloc((6 * nb + 1) * sizeof *G->bb);
+    if (!G->bb) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
+    for (size_t bi = 0; bi < nb; bi++)
+        for (int k = 0; k < 3; k++) {
+            G->bb[6 * bi + (size_t)k] = INFINITY;
+            G->bb[6 * bi + 3 + (size_t)k] = -INFINITY;
+        }
+    size_t ci = 0;
+    for (int z = 0; z < G->g[2]; z++)
+        for (int y = 0; y < G->g[1]; y++)
+            for (int x = 0; x < G->g[0]; x++, ci++) {
+                float *b = G->bb + 6 * (((size_t)(z / GB) * (size_t)G->b[1] + (size_t)(y / GB)) *
+                                            (size_t)G->b[0] + (size_t)(x / GB));
+                const float *c = G->cb + 6 * ci;
+                for (int k = 0; k < 3; k++) {
+                    b[k] = c[k] < b[k] ? c[k] : b[k];
+                    b[3 + k] = c[3 + k] > b[3 + k] ? c[3 + k] : b[3 + k];
+                }
+            }
     return GTET_OK;
 }
 
+#define GPF 16
 gtet_status mx_grid_build(run *R)
 {
     grid *G = &R->gr;
@@ -209,7 +279,13 @@ gtet_status mx_grid_build(run *R)
      * start[ci] .. start[ci + 1] - 1, which answers scan in memory order (32 B records at random
      * through an index were the answers' largest cost before); S holds the tile from here on,
      * so R->tile goes (one copy of the tile in memory, not two) */
-    for (size_t i = 0; i < m; i++) R->sp[G->start[cid[i]]++] = R->tile[i];
+    for (size_t i = 0; i < m; i++) {
+        /* each record lands at random (a write miss): the slot of the record GPF on is asked
+         * for now (exact unless its cell comes up again before it: then a line off, harmless),
+         * NOTES.md E208 */
+        if (i + GPF < m) __builtin_prefetch(&R->sp[G->start[cid[i + GPF]]], 1);
+        R->sp[G->start[cid[i]]++] = R->tile[i];
+    }
     free(R->tile);
     R->tile = NULL;
     for (size_t ci = cells; ci > 0; ci--) G->start[ci] = G->start[ci - 1];
@@ -491,25 +567,20 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
             ball_clip(G, &B, lo, hi);
         }
     }
-    double cw[3];
-    for (int k = 0; k < 3; k++) cw[k] = G->g[k] > 0 && G->inv[k] > 0 ? 1 / G->inv[k] : 0;
     /* blocks of GB^3 cells first: skipped when their box misses the halfspace or the ball (a
      * flat tet near the hull has a huge ball whose cell range is the whole tile) */
     for (int bz = lo[2] / GB; bz <= hi[2] / GB; bz++)
         for (int by = lo[1] / GB; by <= hi[1] / GB; by++)
             for (int bx = lo[0] / GB; bx <= hi[0] / GB; bx++) {
                 int c0[3] = {bx * GB, by * GB, bz * GB};
+                /* the block's points' box (cell_boxes): an empty block is skipped, and a ball
+                 * or halfspace that misses the box misses every point in it */
+                const float *fb = G->bb + 6 * (((size_t)bz * (size_t)G->b[1] + (size_t)by) *
+                                                   (size_t)G->b[0] + (size_t)bx);
+                if (!(fb[0] <= fb[3])) continue;
                 if (hull || !B.all) {
                     double bb[6];   /* lo, hi */
-                    for (int k = 0; k < 3; k++) {
-                        int c1 = c0[k] + GB;
-                        bb[k] = c0[k] == 0 ? G->lo[k] : G->lo[k] + c0[k] * cw[k];
-                        bb[3 + k] = c1 >= G->g[k] ? G->hi[k] : G->lo[k] + c1 * cw[k];
-                        /* the cell formula's rounding: widen by a relative hair */
-                        double w = 1e-9 * (fabs(bb[k]) + fabs(bb[3 + k]) + (bb[3 + k] - bb[k]));
-                        bb[k] -= w;
-                        bb[3 + k] += w;
-                    }
+                    for (int k = 0; k < 6; k++) bb[k] = fb[k];
                     if (hull ? !hspace_meets_box(&H, bb, bb + 3) : !mx_ball_meets_box(&B, bb))
                         continue;
                 }
@@ -521,10 +592,12 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                             if (x < lo[0]) continue;
                             size_t ci = ((size_t)z * (size_t)G->g[1] + (size_t)y) *
                                             (size_t)G->g[0] + (size_t)x;
-                            if (!hull && !B.all && G->start[ci] < G->start[ci + 1]) {
+                            if ((hull || !B.all) && G->start[ci] < G->start[ci + 1]) {
                                 double cb[6];   /* the cell's points' box (cell_boxes) */
                                 for (int k = 0; k < 6; k++) cb[k] = G->cb[6 * ci + (size_t)k];
-                                if (!mx_ball_meets_box(&B, cb)) continue;
+                                if (hull ? !hspace_meets_box(&H, cb, cb + 3)
+                                         : !mx_ball_meets_box(&B, cb))
+                                    continue;
                             }
                             for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) {
                                 const mpt *p = &R->sp[j];
