@@ -54,19 +54,23 @@ __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t 
 }
 
 /* The insphere filter's order for the next insertions.  The static test decides almost every
- * call on uniform points and is then one well-predicted branch; on surface samples and spheres
- * their tets are small against the box, the static test leaves most calls to the semi-static
- * bound, and its branch goes either way at random: there the semi-static bound first (a
- * branch-free bound, one rarely taken branch) is faster (NOTES.md E169).  Every
+ * call on uniform points and is then one well-predicted branch; on surface samples their tets
+ * are small against the box, the static test leaves a third to nine tenths of the calls to
+ * the semi-static bound, and its branch goes either way at random: there the semi-static
+ * bound first (a branch-free bound, one rarely taken branch) is faster (NOTES.md E169).
+ * Where it leaves nearly every call (a sphere, a dense cluster) its branch is predictable
+ * again and the static test costs two comparisons: static-first stays (E172).  Every
  * KM_ORDER_PERIOD insertions of a thread, KM_ORDER_SAMPLE of them run static-first and count
- * the calls the static test leaves; the next ones run semi-static-first when that share
- * exceeds KM_ORDER_SHARE.  Insertions follow the Moore curve, so the choice follows the
- * density along it (a dense cluster in a sparse set).  The answers are the same either way:
- * the mesh never depends on the choice. */
+ * the calls the static test leaves; the next ones run semi-static-first when that share lies
+ * in (KM_ORDER_SHARE_LO, KM_ORDER_SHARE_HI).  Insertions follow the Moore curve, so the
+ * choice follows the density along it.  The answers are the same either way: the mesh never
+ * depends on the choice. */
 #define KM_ORDER_SAMPLE 256u
 #define KM_ORDER_PERIOD 4096u
-#define KM_ORDER_SHARE_NUM 1u  /* KM_ORDER_SHARE = NUM / DEN */
-#define KM_ORDER_SHARE_DEN 3u
+#define KM_ORDER_SHARE_LO_NUM 1u   /* KM_ORDER_SHARE_LO = 1/3 */
+#define KM_ORDER_SHARE_LO_DEN 3u
+#define KM_ORDER_SHARE_HI_NUM 9u   /* KM_ORDER_SHARE_HI = 9/10 */
+#define KM_ORDER_SHARE_HI_DEN 10u
 void km_filter_order(kctx *c);
 
 /* locate.c: a ghost in conflict with p found by a walk over the hull from c->last_ghost, or
