@@ -126,6 +126,18 @@ static int hash_rank(const double *x, int P)
     return (int)(hash_point(x) % (uint64_t)P);
 }
 
+/* An open-addressing table of at least 2m slots (a power of two, in *cap), every slot empty
+ * (all ones), for first_occurrences and any_duplicate; NULL out of memory. */
+static uint64_t *empty_slots(size_t m, size_t *cap)
+{
+    size_t c = 16;
+    while (c < 2 * m) c *= 2;
+    uint64_t *slot = mx_malloc(c * sizeof *slot);
+    if (slot) memset(slot, 0xff, c * sizeof *slot);
+    *cap = c;
+    return slot;
+}
+
 /* first[k] = the record with the smallest id among those at rb[k]'s coordinates: a hash table
  * of the groups (open addressing on the coordinates' hash, a slot holds the group's
  * smallest-id record), O(m) where sorting the records was this step's largest cost; -1 out of
@@ -135,11 +147,9 @@ static int hash_rank(const double *x, int P)
  * is 2^32 - 1) */
 static int first_occurrences(const mpt *rb, size_t m, size_t *first)
 {
-    size_t cap = 16;
-    while (cap < 2 * m) cap *= 2;
-    uint64_t *slot = mx_malloc(cap * sizeof *slot);
+    size_t cap;
+    uint64_t *slot = empty_slots(m, &cap);
     if (!slot) return -1;
-    memset(slot, 0xff, cap * sizeof *slot);
     const uint64_t lo = 0xffffffffu;
     for (size_t k = 0; k < m; k++) {
         uint64_t h = hash_point(rb[k].x), tag = h & ~lo;
@@ -162,11 +172,9 @@ static int first_occurrences(const mpt *rb, size_t m, size_t *first)
 #define DUP_AHEAD 16
 static int any_duplicate(const mpt *rb, size_t m)
 {
-    size_t cap = 16;
-    while (cap < 2 * m) cap *= 2;
-    uint64_t *slot = mx_malloc(cap * sizeof *slot);
+    size_t cap;
+    uint64_t *slot = empty_slots(m, &cap);
     if (!slot) return -1;
-    memset(slot, 0xff, cap * sizeof *slot);
     const uint64_t lo = 0xffffffffu;
     uint64_t ring[DUP_AHEAD];
     for (size_t k = 0; k < m && k < DUP_AHEAD; k++) {
