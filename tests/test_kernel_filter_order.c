@@ -21,11 +21,15 @@
 #include "kernel/conflict.h"
 #include "testutil.h"
 
+/* points a set: the arrays test's (smaller in sanitized builds); the sampler's shares depend
+ * on the spacing, so its sets have 30000 points in every build */
 #ifdef GTET_TEST_SMALL
-#define N 6000
+#define N_ARRAYS 6000
 #else
-#define N 30000
+#define N_ARRAYS 30000
 #endif
+#define N_SAMPLER 30000
+static int N;
 
 /* 8 corners of [-1, 1]^3, then `cluster` points on a bumpy sphere of radius `radius` around
  * the origin (the rest uniform in the cube), in random order after the corners.  With
@@ -99,7 +103,7 @@ static int build(const double *p, enum order o, run *out)
     }
     int ok = km_first_tet(&c, 0, 1, 2, 4) == GTET_OK;
     out->semi_first_insertions = 0;
-    for (uint32_t i = 3; ok && i < N; i++) {
+    for (uint32_t i = 3; ok && i < (uint32_t)N; i++) {
         if (i == 4) continue;
         int deferred = 0;
         ok = km_insert(&c, i, &deferred) == GTET_OK && !deferred;
@@ -123,6 +127,7 @@ static void release(run *r)
 
 static void test_every_order_builds_the_same_arrays(void)
 {
+    N = N_ARRAYS;
     for (int k = 0; k < 2; k++) {
         const int cluster = k == 0 ? N - 8 : (N - 8) / 2;
         double *p = points(cluster, k, 0.01, 11 + (uint64_t)k);
@@ -148,6 +153,7 @@ static void test_the_sampler_follows_the_static_bound(void)
     printf("no packed filter on this target: one order only, nothing to sample\n");
     return;
 #endif
+    N = N_SAMPLER;
     /* the share of calls the static test leaves (a static-first run's count, probed when
      * this test was written): cluster of radius 0.1 ~0.6, of radius 0.01 ~0.98, uniform ~0 */
     double *mid = points(N - 8, 0, 0.1, 21), *tiny = points(N - 8, 0, 0.01, 23);
