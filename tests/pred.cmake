@@ -52,7 +52,7 @@ add_test(NAME test_pred_stage_counts_are_consistent COMMAND pred_stage_counts --
 set_tests_properties(test_pred_stage_counts_are_consistent PROPERTIES TIMEOUT 300)
 
 # 4. test_pred_packed_filter_avx2: test_pred_packed_filter.c compiled with -mavx2, where the
-#    packed filters take four lanes (filter.h pred_insphere_lanes4_, run by
+#    packed filters take four lanes (filter_packed.h pred_insphere_lanes4_, run by
 #    src/kernel/insert_avx2.c); only where the library builds that unit (GTET_AVX2_TU).
 if(GTET_AVX2_TU AND TARGET test_pred_packed_filter_avx2)
   target_compile_options(test_pred_packed_filter_avx2 PRIVATE -mavx2)

@@ -1,5 +1,5 @@
 /* test_kernel_filter_order.c -- the insphere filter's two orders in the kernel
- * (src/kernel/conflict.h km_filter_order, src/pred/filter.h pred_insphere_filter_packed_sf).
+ * (src/kernel/conflict.h km_filter_order, src/pred/filter_packed.h pred_insphere_filter_packed_sf).
  *
  * Specification: the order (static test first, semi-static bound first, or the sampler's
  * choice every KM_ORDER_PERIOD insertions) never changes the mesh, nor do the instances of

@@ -1,5 +1,5 @@
 /* test_pred_packed_filter.c -- the kernel's two-lane insphere filters
- * (src/pred/filter.h pred_insphere_filter_packed, static test first, and
+ * (src/pred/filter_packed.h pred_insphere_filter_packed, static test first, and
  * pred_insphere_filter_packed_sf, semi-static bound first) are the scalar filter bit for bit.
  *
  * Specification: its det~ (pred_insphere_det_packed_) is the bytes of det~ evaluated in

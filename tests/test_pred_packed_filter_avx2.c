@@ -1,5 +1,5 @@
 /* test_pred_packed_filter_avx2.c -- test_pred_packed_filter.c compiled with AVX2 (tests/pred.cmake),
- * where filter.h's packed filters evaluate det~ four lanes at a time (pred_insphere_lanes4_,
+ * where filter_packed.h's filters evaluate det~ four lanes at a time (pred_insphere_lanes4_,
  * what kernel/insert_avx2.c runs): the same specification, the same tuples, the answers and
  * records compared byte for byte with the scalar filter's.  On a CPU without AVX2 the library
  * never runs that code and this test cannot: it says so and passes; a build without the AVX2

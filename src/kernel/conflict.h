@@ -29,7 +29,7 @@ __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const 
     const double *cc = V + 3 * (size_t)v[2], *d = V + 3 * (size_t)v[3];
     /* the filter inline (most calls stop here); the full chain counts its own call.  Its
      * order, static test first or semi-static bound first, changes which branches run, never
-     * the answer nor the record (filter.h pred_insphere_filter_packed_sf). */
+     * the answer nor the record (filter_packed.h pred_insphere_filter_packed_sf). */
     double minors[PRED_IS_NMINORS];
 #ifdef PRED_INSPHERE_PACKED
     int s = semi_first

@@ -1,6 +1,6 @@
 /* insert_avx2.c -- km_insert's two instances (insert.c) compiled with AVX2 enabled: the same
  * steps (insert_steps.h), with the insphere filter evaluated four lanes at a time
- * (filter.h pred_insphere_lanes4_: the same operations on the same operands as the scalar
+ * (filter_packed.h pred_insphere_lanes4_: the same operations on the same operands as the scalar
  * filter, so the same answers and records bit for bit; proofs/filters.md section 13).  Built
  * only where the compiler takes -mavx2 for x86-64 (CMakeLists.txt, GTET_AVX2_TU); km_insert
  * calls these only when the CPU has AVX2 (kctx_init).  -ffp-contract=off holds here as
