@@ -10,8 +10,8 @@
 /* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)?  tv, V
  * and seps are c->m's tet vertices, coordinates and static insphere bound, semi_first is
  * c->semi_first (km_filter_order): the cavity search reads them once a point and passes
- * them, where each call would load them again (stores
- * through the boundary records may alias them for the compiler; NOTES.md E142).
+ * them, where each call would load them again (stores through the boundary records may
+ * alias them for the compiler; NOTES.md E142).
  * always_inline: gcc's size heuristics stop inlining it once the filter keeps its record of
  * an undecided call (filter.h pred_insphere_keep_): paraboloid 100k +4.5% instructions. */
 __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const uint32_t *tv,

@@ -2,7 +2,8 @@
  * the cavity search, the new tets and their adjacency, as static functions and the template
  * km_insert_t.  Included by insert.c, compiled for x86-64's baseline, and by insert_avx2.c,
  * the same text compiled with AVX2 enabled, where the insphere filter takes four lanes at a
- * time (filter_packed.h pred_insphere_lanes4_; NOTES.md E171).  Nothing here may depend on which. */
+ * time (filter_packed.h pred_insphere_lanes4_; NOTES.md E171).  Nothing here may depend on
+ * which. */
 #ifndef GTET_KERNEL_INSERT_STEPS_H
 #define GTET_KERNEL_INSERT_STEPS_H
 #include "conflict.h"
