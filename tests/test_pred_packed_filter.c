@@ -78,11 +78,44 @@ static void compare(double (*p)[3], double seps)
     }
 }
 
-static void compare_all_bounds(double (*p)[3], double box_seps)
+#ifdef PRED_ORIENT3D_FACETS4
+static long facet_lanes, facet_undecided;
+
+/* the walk's four orient3d lanes (tet p[0..3], point p[4]) against the scalar filter, lane by
+ * lane */
+static void compare_facets(double (*p)[3], double seps)
+{
+    unsigned neg = 0xf0, und = 0xf0;
+    pred_orient3d_facets4_(p[0], p[1], p[2], p[3], p[4], seps, &neg, &und);
+    TEST_CHECK(neg < 16 && und < 16 && (neg & und) == 0, "masks neg %x und %x", neg, und);
+    for (int f = 0; f < 4; f++) {
+        const double *q[4] = {p[0], p[1], p[2], p[3]};
+        q[f] = p[4];
+        const int s = pred_orient3d_filter(q[0], q[1], q[2], q[3], seps);
+        const int k = (neg >> f & 1) ? -1 : (und >> f & 1) ? 0 : 1;
+        facet_lanes++;
+        facet_undecided += s == 0;
+        TEST_CHECK(s == k, "facet %d: scalar %d lanes %d (seps %a) at (%a %a %a) (%a %a %a) "
+                   "(%a %a %a) (%a %a %a) p (%a %a %a)", f, s, k, seps, p[0][0], p[0][1],
+                   p[0][2], p[1][0], p[1][1], p[1][2], p[2][0], p[2][1], p[2][2], p[3][0],
+                   p[3][1], p[3][2], p[4][0], p[4][1], p[4][2]);
+    }
+}
+#endif
+
+/* o3_seps: the orient3d static bound of the same box, for the walk's lanes */
+static void compare_all_bounds(double (*p)[3], double box_seps, double o3_seps)
 {
     compare(p, PRED_NO_STATIC);
     compare(p, box_seps);
     compare(p, 0.0);
+#ifdef PRED_ORIENT3D_FACETS4
+    compare_facets(p, PRED_NO_STATIC);
+    compare_facets(p, o3_seps);
+    compare_facets(p, 0.0);
+#else
+    (void)o3_seps;
+#endif
 }
 
 static void test_uniform_tuples_agree(void)
@@ -93,7 +126,7 @@ static void test_uniform_tuples_agree(void)
         double p[5][3];
         for (int i = 0; i < 5; i++)
             for (int j = 0; j < 3; j++) p[i][j] = tu_uniform(&r);
-        compare_all_bounds(p, seps);
+        compare_all_bounds(p, seps, pred_orient3d_static_eps(1.0, 1.0, 1.0));
     }
 }
 
@@ -116,7 +149,7 @@ static void test_near_cospherical_tuples_agree(void)
             for (int j = 0; j < 3; j++) p[i][j] = v[j] / q;
         }
         if (n & 1) pg_perturb(&r, p, 5);
-        compare_all_bounds(p, seps);
+        compare_all_bounds(p, seps, pred_orient3d_static_eps(2.0, 2.0, 2.0));
     }
     TEST_CHECK(undecided - before > 1000, "only %ld undecided: the record was hardly compared",
                undecided - before);
@@ -136,7 +169,7 @@ static void test_lattice_sphere_neighbours_agree(void)
             for (int j = 0; j < 3; j++) p[i][j] = (double)pts[k][j];
         }
         if (t % 3 == 0) pg_perturb(&r, p, 5);
-        compare_all_bounds(p, seps);
+        compare_all_bounds(p, seps, pred_orient3d_static_eps(130.0, 130.0, 130.0));
     }
 }
 
@@ -149,8 +182,8 @@ static void test_every_magnitude_agrees(void)
         const int lo = (int)tu_below(&r, 2038) - 1074, hi = lo + (int)tu_below(&r, 60);
         for (int i = 0; i < 5; i++)
             for (int j = 0; j < 3; j++) p[i][j] = pg_double_exp(&r, lo, hi);
-        compare_all_bounds(p, pred_insphere_static_eps(ldexp(1.0, hi + 1), ldexp(1.0, hi + 1),
-                                                       ldexp(1.0, hi + 1)));
+        const double w = ldexp(1.0, hi + 1);
+        compare_all_bounds(p, pred_insphere_static_eps(w, w, w), pred_orient3d_static_eps(w, w, w));
     }
 }
 
@@ -161,8 +194,38 @@ static void test_small_integers_with_zeros_agree(void)
         double p[5][3];
         for (int i = 0; i < 5; i++)
             for (int j = 0; j < 3; j++) p[i][j] = (double)pg_int(&r, 2);
-        compare_all_bounds(p, pred_insphere_static_eps(4.0, 4.0, 4.0));
+        compare_all_bounds(p, pred_insphere_static_eps(4.0, 4.0, 4.0),
+                           pred_orient3d_static_eps(4.0, 4.0, 4.0));
     }
+}
+
+static void test_points_near_a_facet_agree(void)
+{
+    /* the walk's point on or next to a facet's plane (a rounded barycentric combination of
+     * three vertices, moved by a few ulps): the static and semi-static tests fail there */
+    tu_rng r = {6};
+    const double seps = pred_insphere_static_eps(1.0, 1.0, 1.0);
+    const double o3 = pred_orient3d_static_eps(1.0, 1.0, 1.0);
+    for (int t = 0; t < 100000; t++) {
+        double p[5][3];
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 3; j++) p[i][j] = tu_uniform(&r);
+        const int f = (int)tu_below(&r, 4);
+        double w[3] = {tu_uniform(&r), tu_uniform(&r), 0};
+        w[2] = 1 - w[0] - w[1];
+        for (int j = 0; j < 3; j++) {
+            double x = 0;
+            for (int i = 0, k = 0; i < 4; i++)
+                if (i != f) x += w[k++] * p[i][j];
+            p[4][j] = x;
+        }
+        if (t & 1) pg_perturb(&r, p + 4, 1);
+        compare_all_bounds(p, seps, o3);
+    }
+#ifdef PRED_ORIENT3D_FACETS4
+    TEST_CHECK(facet_undecided > 1000, "only %ld undecided lanes: the rest was hardly compared",
+               facet_undecided);
+#endif
 }
 
 int main(void)
@@ -172,6 +235,10 @@ int main(void)
     TU_RUN(test_lattice_sphere_neighbours_agree);
     TU_RUN(test_every_magnitude_agrees);
     TU_RUN(test_small_integers_with_zeros_agree);
+    TU_RUN(test_points_near_a_facet_agree);
+#ifdef PRED_ORIENT3D_FACETS4
+    printf("walk's lanes: %ld compared, %ld undecided\n", facet_lanes, facet_undecided);
+#endif
     printf("%ld comparisons, %ld undecided\n", compared, undecided);
     return tu_finish();
 }

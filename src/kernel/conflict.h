@@ -1,5 +1,5 @@
 /* conflict.h -- the conflict test shared by the point location (locate.c) and the cavity
- * search (insert.c), and the location step km_insert starts with.
+ * search (insert.c); the location step km_insert starts with is in walk.h.
  *
  * km_conflicts is static inline on purpose: the cavity search calls it ~50 times a point and
  * must keep it inlined with the insphere filter (NOTES.md E16: +6.5% when it was not). */
@@ -74,32 +74,9 @@ __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t 
 void km_filter_order(kctx *c);
 
 /* locate.c: a ghost in conflict with p found by a walk over the hull from c->last_ghost, or
- * UINT32_MAX (in a parallel pass also when the walk meets a ghost not this thread's); the
- * visibility walk from c->last (its tet in *found, or UINT32_MAX
- * in a parallel pass when it met a tet not this thread's or, there or with may_scan 0, ran
- * out of steps); a linear scan for a conflicting tet (the walk's fallback). */
+ * UINT32_MAX (in a parallel pass also when the walk meets a ghost not this thread's); a linear
+ * scan for a conflicting tet (the visibility walk's fallback; the walk itself and the location
+ * step, km_find_conflict, are in walk.h). */
 uint32_t km_hull_search(kctx *c, const double *p);
-gtet_status km_walk(kctx *c, const double *p, uint32_t *found, int may_scan);
 gtet_status km_scan_for_conflict(kctx *c, const double *p, uint32_t *found);
-
-/* A tet in conflict with p (*t0): over the hull first when the last insertion was outside it,
- * else by the visibility walk from c->last; *t0 = UINT32_MAX in a parallel pass
- * when the walk met a tet not this thread's or ran out of steps (defer).  Inlined into
- * km_insert (one call a point less); semi_first as for km_conflicts_in. */
-static inline gtet_status km_find_conflict(kctx *c, const double *p, uint32_t *t0,
-                                           const int semi_first)
-{
-    if (__builtin_expect(c->last_ghost != UINT32_MAX, 0)) {
-        *t0 = km_hull_search(c, p);
-        c->last_ghost = UINT32_MAX;
-        if (*t0 != UINT32_MAX) return GTET_OK;
-    }
-    gtet_status s = km_walk(c, p, t0, 1);
-    if (s != GTET_OK || *t0 == UINT32_MAX) return s;
-    if (km_conflicts_in(c, c->m->tv, c->m->v, c->m->ps.is_seps, semi_first, *t0, p))
-        return GTET_OK;
-    /* the located tet must conflict (locate.c) */
-    if (c->colour) return GTET_ERR_INTERNAL;
-    return km_scan_for_conflict(c, p, t0);
-}
 #endif

@@ -6,7 +6,7 @@
  * which. */
 #ifndef GTET_KERNEL_INSERT_STEPS_H
 #define GTET_KERNEL_INSERT_STEPS_H
-#include "conflict.h"
+#include "walk.h"
 
 #include "../base/base.h"
 

@@ -10,31 +10,14 @@
  *    strictly inside its circumsphere, so that tet conflicts; a ghost is entered only through
  *    its finite facet with the point strictly beyond, so it conflicts too.  The facet order is
  *    randomised; after a step budget the walk gives up and a linear scan finds a conflicting
- *    tet, so the walk always terminates (proofs/termination.md).  km_find_conflict (conflict.h)
- *    checks the walk's tet once more and scans when it does not conflict.
+ *    tet, so the walk always terminates (proofs/termination.md).  km_find_conflict checks the
+ *    walk's tet once more and scans when it does not conflict.  The walk and km_find_conflict
+ *    are in walk.h (each instance of km_insert has its own copy); here are km_locate, the
+ *    hull walk and the scan.
  *  - the hull walk (serial, after an insertion from outside the hull) only proposes a ghost;
  *    km_find_conflict takes it only when km_conflicts says so, else it walks.
  */
-#include "conflict.h"
-
-static inline uint32_t rng_next(kctx *c)
-{
-    c->rng = c->rng * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (uint32_t)(c->rng >> 33);
-}
-
-/* orient3d of tet t with its vertex f replaced by p (t finite). */
-static inline int orient_replaced(kctx *c, uint32_t t, int f, const double *p)
-{
-    const kmesh *m = c->m;
-    const uint32_t *v = m->tv + 4 * (size_t)t;
-    const double *q[4];
-    for (int i = 0; i < 4; i++) q[i] = km_pt(m, v[i]);
-    q[f] = p;
-    c->cnt.orient_calls++;
-    int s = pred_orient3d_filter(q[0], q[1], q[2], q[3], m->ps.o3_seps);
-    return s ? s : pred_orient3d_rest(q[0], q[1], q[2], q[3], &m->ps, &c->cnt);
-}
+#include "walk.h"
 
 /* Linear scan for a live tet in conflict with p: the walk's guaranteed fallback. */
 gtet_status km_scan_for_conflict(kctx *c, const double *p, uint32_t *found)
@@ -51,77 +34,12 @@ gtet_status km_scan_for_conflict(kctx *c, const double *p, uint32_t *found)
     return GTET_ERR_INTERNAL;  /* a point outside every circumsphere and beyond no hull facet */
 }
 
-/* Visibility walk from c->last to a tet in conflict with p.  In a parallel pass it never
- * enters a tet that is not this thread's (km_owned; *found = UINT32_MAX: defer), and it gives
- * up instead of scanning when the step budget runs out (a scan would read other threads'
- * tets); so does it when may_scan is 0 (km_locate). */
-gtet_status km_walk(kctx *c, const double *p, uint32_t *found, int may_scan)
-{
-    const kmesh *m = c->m;
-    uint32_t t = c->last;
-    uint32_t entry = UINT32_MAX;   /* handle 4t+f of the facet we came in through */
-    if (km_is_ghost(m, t)) {
-        /* start from the ghost's finite neighbour and test all four of its facets: p may be
-         * beyond the hull facet too (then the walk steps back into this ghost, entered
-         * through its finite facet with p strictly beyond, which conflicts).  Skipping that
-         * facet as if it had been crossed located a tet p is not in when p is outside the
-         * hull (sphere points in a parallel pass: "internal error"; serially a linear scan). */
-        t = m->tn[4 * (size_t)t + 3] >> 2;
-    }
-    /* m->nt is bumped by other threads' atomic captures (ensure_room) during a parallel
-     * pass: read it atomically too (a plain read would be a data race; ThreadSanitizer). */
-    size_t nt_now;
-#pragma omp atomic read
-    nt_now = m->nt;
-    uint64_t budget = 64 + 4 * (uint64_t)nt_now;
-    for (uint64_t step = 0; step < budget; step++) {
-        if (km_is_ghost(m, t)) {  /* entered through its finite facet, strictly beyond */
-            *found = t;
-            c->walk_steps += step;
-            return GTET_OK;
-        }
-        uint32_t r = rng_next(c);
-        int moved = 0;
-        /* the facets to test, the one entered through left out, in the order r + 0..3 (bit k
-         * of `untested` is facet (r + k) & 3): a mask rather than a test of each facet against
-         * the entry, a branch taken once in four at random (NOTES.md E167); at the start
-         * entry is UINT32_MAX, and entry >> 2 is no slot (KM_MAX_SLOTS) */
-        const uint32_t skip = entry >> 2 == t ? 1u << (((entry & 3) - r) & 3) : 0;
-        for (uint32_t untested = 15u & ~skip; untested; untested &= untested - 1) {
-            const int f = (int)((r + (uint32_t)__builtin_ctz(untested)) & 3);
-            if (orient_replaced(c, t, f, p) < 0) {
-                uint32_t h = m->tn[4 * (size_t)t + (size_t)f];
-                if (c->colour && !km_owned(c, h >> 2)) {
-                    *found = UINT32_MAX;
-                    c->walk_steps += step;
-                    return GTET_OK;
-                }
-                entry = h;
-                t = h >> 2;
-                moved = 1;
-                break;
-            }
-        }
-        if (!moved) {
-            *found = t;
-            c->walk_steps += step;
-            return GTET_OK;
-        }
-    }
-    c->walk_steps += budget;
-    if (c->colour || !may_scan) {
-        *found = UINT32_MAX;
-        return GTET_OK;
-    }
-    return km_scan_for_conflict(c, p, found);
-}
-
 uint32_t km_locate(kctx *c, const double *p)
 {
     const uint8_t *colour = c->colour;
     c->colour = NULL;  /* every tet may be crossed: nothing is written */
     uint32_t t = UINT32_MAX;
-    if (km_walk(c, p, &t, 0) != GTET_OK) t = UINT32_MAX;
+    if (km_walk_t(c, p, &t, 0) != GTET_OK) t = UINT32_MAX;
     c->colour = colour;
     return t;
 }

@@ -254,6 +254,73 @@ static inline int pred_insphere_packed4_rest_(const pred_is_lanes4_ *L, double d
 }
 #endif
 
+#if defined(__AVX2__)
+/* The visibility walk's four orient3d filters at once (AVX2; kernel/walk.h): lane f is
+ * pred_orient3d_filter(q[0], q[1], q[2], q[3], seps) with q = (v0, v1, v2, v3) and q[f]
+ * replaced by p, the sign of the tet with its vertex f moved to p.  Each lane's tuple is made
+ * by blends of broadcast coordinates (moves), and every difference, product and sum is the
+ * scalar text's, on the same operands, in the same order (a product's operands swapped at
+ * most), so det~ is the scalar det~ bit for bit (proofs/filters.md section 13).  The static
+ * test, then, for the lanes it leaves and seps != 0, the semi-static one: the maxima are exact
+ * and order-free since no translation of finite points is NaN (section 13), the guard is the
+ * scalar guard, eps the scalar product chain.  Bit f of *neg: lane f decided negative; of
+ * *und: undecided (the scalar filter returns 0, and pred_orient3d_rest decides).
+ * Inlined always: as a call the walk lost a third of what the lanes save (NOTES.md E173).
+ * tests/test_pred_packed_filter_avx2.c compares every lane with the scalar filter. */
+#define PRED_ORIENT3D_FACETS4 1
+__attribute__((always_inline)) static inline void pred_orient3d_facets4_(
+    const double *v0, const double *v1, const double *v2, const double *v3, const double *p,
+    double seps, unsigned *neg, unsigned *und)
+{
+    __m256d A[3], B[3], C[3], D[3];   /* lane f: the tuple's a, b, c, d, coordinate by coordinate */
+    for (int j = 0; j < 3; j++) {
+        const __m256d pj = _mm256_broadcast_sd(p + j);
+        A[j] = _mm256_blend_pd(_mm256_broadcast_sd(v0 + j), pj, 1);
+        B[j] = _mm256_blend_pd(_mm256_broadcast_sd(v1 + j), pj, 2);
+        C[j] = _mm256_blend_pd(_mm256_broadcast_sd(v2 + j), pj, 4);
+        D[j] = _mm256_blend_pd(_mm256_broadcast_sd(v3 + j), pj, 8);
+    }
+    const __m256d px = _mm256_sub_pd(B[0], A[0]), py = _mm256_sub_pd(B[1], A[1]);
+    const __m256d pz = _mm256_sub_pd(B[2], A[2]);
+    const __m256d qx = _mm256_sub_pd(C[0], A[0]), qy = _mm256_sub_pd(C[1], A[1]);
+    const __m256d qz = _mm256_sub_pd(C[2], A[2]);
+    const __m256d rx = _mm256_sub_pd(D[0], A[0]), ry = _mm256_sub_pd(D[1], A[1]);
+    const __m256d rz = _mm256_sub_pd(D[2], A[2]);
+    const __m256d m1 = _mm256_sub_pd(_mm256_mul_pd(qy, rz), _mm256_mul_pd(qz, ry));
+    const __m256d m2 = _mm256_sub_pd(_mm256_mul_pd(qz, rx), _mm256_mul_pd(qx, rz));
+    const __m256d m3 = _mm256_sub_pd(_mm256_mul_pd(qx, ry), _mm256_mul_pd(qy, rx));
+    const __m256d det = _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(px, m1), _mm256_mul_pd(py, m2)), _mm256_mul_pd(pz, m3));
+    const __m256d s = _mm256_set1_pd(seps), ms = _mm256_set1_pd(-seps);
+    const unsigned pos = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(det, s, _CMP_GT_OQ));
+    const unsigned n = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(det, ms, _CMP_LT_OQ));
+    const unsigned left = 15u & ~(pos | n);
+    if (__builtin_expect(left == 0, 1) || seps == 0) {
+        *neg = n;
+        *und = left;
+        return;
+    }
+    const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+#define PRED_ABS4(v) _mm256_and_pd((v), mag)
+    const __m256d X = _mm256_max_pd(_mm256_max_pd(PRED_ABS4(px), PRED_ABS4(qx)), PRED_ABS4(rx));
+    const __m256d Y = _mm256_max_pd(_mm256_max_pd(PRED_ABS4(py), PRED_ABS4(qy)), PRED_ABS4(ry));
+    const __m256d Z = _mm256_max_pd(_mm256_max_pd(PRED_ABS4(pz), PRED_ABS4(qz)), PRED_ABS4(rz));
+#undef PRED_ABS4
+    const __m256d lo = _mm256_min_pd(_mm256_min_pd(X, Y), Z);
+    const __m256d hi = _mm256_max_pd(_mm256_max_pd(X, Y), Z);
+    const __m256d guard = _mm256_and_pd(_mm256_cmp_pd(lo, _mm256_set1_pd(PRED_O3_LO), _CMP_GE_OQ),
+                                        _mm256_cmp_pd(hi, _mm256_set1_pd(PRED_O3_HI), _CMP_LE_OQ));
+    const __m256d CX = _mm256_mul_pd(_mm256_set1_pd(PRED_O3_C), X);
+    const __m256d eps = _mm256_mul_pd(_mm256_mul_pd(CX, Y), Z);   /* ((C * X) * Y) * Z */
+    const __m256d meps = _mm256_xor_pd(eps, _mm256_set1_pd(-0.0));
+    const unsigned g = (unsigned)_mm256_movemask_pd(guard);
+    const unsigned pos2 = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(det, eps, _CMP_GT_OQ)) & g;
+    const unsigned n2 = (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(det, meps, _CMP_LT_OQ)) & g;
+    *neg = n | (left & n2);
+    *und = left & ~(pos2 | n2);
+}
+#endif
+
 /* det~ and the static test on the lanes (four where AVX2 is compiled in, else two), then the
  * rest of the scalar filter on their values; *static_misses counts the calls the static test
  * leaves to the rest (the kernel's choice of filter order, kernel/conflict.h). */
