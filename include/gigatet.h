@@ -385,7 +385,8 @@ typedef struct gtet_check_report {
 /* Check a mesh against the points it was built from (xyz may be NULL: then the vertex set is
  * not compared with the input).  Uses an independent exact GMP implementation of every
  * predicate.  Returns GTET_OK or GTET_ERR_CHECK_FAILED (or an allocation / argument error);
- * report may be NULL. */
+ * report may be NULL.  Runs on OpenMP's default thread count (OMP_NUM_THREADS), or on as many
+ * threads as the process can start when that is fewer (the same verdict either way). */
 GTET_API gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsigned flags,
                                 gtet_check_report *report);
 

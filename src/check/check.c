@@ -40,11 +40,13 @@
  * into the report as one sentence, the same for any thread count.
  */
 #include <math.h>
+#include <omp.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "../base/base.h"
 #include "../oracle/oracle.h"
 #include "check_internal.h"
 
@@ -351,6 +353,11 @@ static void report_ok(chk_ctx *c)
 
 gtet_status chk_run(chk_ctx *c)
 {
+    /* the regions' team, fixed here: OpenMP's default team would start threads the process
+     * may not be allowed (libgomp then ends the process: NOTES.md E183, Q34), and a region
+     * nested in a caller's gets what base_team_size says (E184) */
+    int limit_error;
+    c->threads = base_threads_available(base_team_size(omp_get_max_threads()), &limit_error);
     c->closed = (c->flags & GTET_CHECK_DELAUNAY) != 0;
     c->report->mode = c->closed ? (unsigned)GTET_CHECK_DELAUNAY : 0u;
     c->report->violation.tet[0] = c->report->violation.tet[1] = GTET_CHECK_NONE;

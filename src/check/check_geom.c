@@ -75,8 +75,8 @@ gtet_status chk_orientation(chk_ctx *c)
     c->stage = "orientation";
     size_t bad = SIZE_MAX;
     uint64_t nneg = 0;
-#pragma omp parallel for reduction(min : bad) reduction(+ : nneg) schedule(dynamic, 512) \
-    if (c->nt > 8192)
+#pragma omp parallel for num_threads(c->threads) reduction(min : bad) reduction(+ : nneg) \
+    schedule(dynamic, 512) if (c->nt > 8192)
     for (size_t t = 0; t < c->nt; t++) {
         const uint32_t *v = T + 4 * t;
         int o = chk_orient3d(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]));
@@ -160,8 +160,8 @@ gtet_status chk_delaunay(chk_ctx *c)
             return chk_oom(c);
         }
     }
-#pragma omp parallel for reduction(min : bad) reduction(+ : ties) schedule(dynamic, 512) \
-    if (c->nt > 8192)
+#pragma omp parallel for num_threads(c->threads) reduction(min : bad) reduction(+ : ties) \
+    schedule(dynamic, 512) if (c->nt > 8192)
     for (size_t t = 0; t < c->nt; t++) {
         const uint32_t *v = T + 4 * t;
         for (int f = 0; f < 4; f++) {
@@ -295,7 +295,7 @@ gtet_status chk_hull_convex(chk_ctx *c)
 gtet_status chk_volume(chk_ctx *c)
 {
     c->stage = "volume";
-    int s = orc_compare_volume(c->vertices, c->nv, c->tets, c->nt, c->hull, c->nh);
+    int s = orc_compare_volume(c->vertices, c->nv, c->tets, c->nt, c->hull, c->nh, c->threads);
     if (s == 0) return GTET_OK;
     return chk_fail(c, "the tets' total volume is %s the volume the hull encloses",
                     s > 0 ? "larger than" : "smaller than");
@@ -314,7 +314,8 @@ gtet_status chk_full(chk_ctx *c)
     const uint32_t *T = c->tets, *H = c->hull;
     size_t nv = c->nv, bad = SIZE_MAX;
     c->stage = "full";
-#pragma omp parallel for reduction(min : bad) schedule(dynamic, 16) if (c->nt * c->nv > 1000000)
+#pragma omp parallel for num_threads(c->threads) reduction(min : bad) schedule(dynamic, 16) \
+    if (c->nt * c->nv > 1000000)
     for (size_t t = 0; t < c->nt; t++) {
         const uint32_t *v = T + 4 * t;
         for (size_t w = 0; w < nv; w++) {

@@ -31,6 +31,8 @@ typedef struct chk_ctx {
     gtet_check_report *report;  /* never NULL inside the checker */
     const char *stage;          /* the running stage's identifier (gtet_check_violation.stage) */
     int want_cells;             /* fill cell[] (gtet_diff) */
+    int threads;                /* every parallel region's team: what OpenMP gives a region
+                                   here and the process can start (chk_run) */
     /* built by the stages */
     uint32_t *adj;              /* 4*nt: rebuilt adjacency, GTET_NO_TET on the hull */
     uint32_t *hull;             /* 3*nh: hull facets, outward oriented (ghost orientation) */

@@ -197,8 +197,8 @@ gtet_status chk_facets(chk_ctx *c)
     start[0] = 0;
     size_t bad = SIZE_MAX, interior = 0;
     int oom = 0;
-#pragma omp parallel reduction(min : bad) reduction(+ : interior) reduction(| : oom) \
-    if (c->nt > 8192)
+#pragma omp parallel num_threads(c->threads) reduction(min : bad) reduction(+ : interior) \
+    reduction(| : oom) if (c->nt > 8192)
     {
         fkey *k = malloc((maxb ? maxb : 1) * sizeof *k);
         if (!k) oom = 1;
@@ -359,7 +359,8 @@ static int64_t count_edges(const chk_ctx *c, int64_t *n_edges, size_t *start, ui
     /* buckets in parallel; the counts are sums of increments (atomic for the other end), so
      * they do not depend on the thread count */
     int64_t E = 0;
-#pragma omp parallel for reduction(+ : E) schedule(dynamic, 1024) if (nt > 8192)
+#pragma omp parallel for num_threads(c->threads) reduction(+ : E) schedule(dynamic, 1024) \
+    if (nt > 8192)
     for (size_t v = 0; v < nv; v++) {
         u32_sort(other + start[v], start[v + 1] - start[v]);
         int64_t mine = 0;

@@ -575,10 +575,11 @@ static void volume_sum_tets(mpz_t sum, const double *vertices, const uint32_t *t
  * associative, so the total (and the sign returned) does not depend on the thread count or
  * the order of the additions. */
 int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
-                       const uint32_t *hull, size_t nh)
+                       const uint32_t *hull, size_t nh, int threads)
 {
     int emin = INT_MAX;
-#pragma omp parallel for reduction(min : emin) schedule(static) if (nv > 65536)
+#pragma omp parallel for num_threads(threads) reduction(min : emin) schedule(static) \
+    if (nv > 65536)
     for (size_t i = 0; i < 3 * nv; i++) {
         double m;
         int e;
@@ -591,7 +592,7 @@ int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, 
     for (int i = 0; i < 9; i++) mpz_init(d[i]);
     mpz_srcptr m[9];
     for (int i = 0; i < 9; i++) m[i] = d[i];
-#pragma omp parallel if (nt > 16384)
+#pragma omp parallel num_threads(threads) if (nt > 16384)
     {
         mpz_t part;
         mpz_init(part);
