@@ -32,7 +32,14 @@ static int grow(void **buf, size_t *cap, size_t need, size_t elem)
 static inline void prefetch_neighbours(const kmesh *m, uint32_t t)
 {
     const uint32_t *n = m->tn + 4 * (size_t)t;
-    for (int f = 0; f < 4; f++) __builtin_prefetch(m->tv + 4 * (size_t)(n[f] >> 2));
+    for (int f = 0; f < 4; f++) {
+        /* its vertices for the conflict test, its neighbours for the search when it joins the
+         * cavity (this function on it) or for fill's back link when it stays outside: the
+         * load of its tn line after the kill was the search's largest stall on the scans
+         * (NOTES.md E175) */
+        __builtin_prefetch(m->tv + 4 * (size_t)(n[f] >> 2));
+        __builtin_prefetch(m->tn + 4 * (size_t)(n[f] >> 2));
+    }
 }
 
 /* Make sure `need` slots can be taken without failing: serially by growing the arrays, in a
