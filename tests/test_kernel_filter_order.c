@@ -3,8 +3,10 @@
  *
  * Specification: the order (static test first, semi-static bound first, or the sampler's
  * choice every KM_ORDER_PERIOD insertions) never changes the mesh, nor do the instances of
- * km_insert that run (AVX2's four-lane filter, kernel/insert_avx2.c, where the CPU has it, or
- * x86-64's baseline): the same points inserted in the same order give the same tet and
+ * km_insert that run (AVX2's four-lane filter and the walk's four facet lanes, kernel/
+ * insert_avx2.c and walk.h, where the CPU has it, or x86-64's baseline, whose walk tests one
+ * facet at a time; the lattice points' coplanar tuples take the walk's exact rest in both):
+ * the same points inserted in the same order give the same tet and
  * neighbour arrays, byte for byte.  The sampler picks the semi-static bound first where the
  * static test leaves between a third and nine tenths of the calls (a cluster whose tets
  * straddle the static bound's scale, NOTES.md E169) and keeps the static test first where
@@ -85,6 +87,7 @@ typedef struct run {
     size_t nt;
     uint32_t *tv, *tn;
     long semi_first_insertions;
+    uint64_t walk_steps, orient_calls, orient_exact;  /* the walk's counters */
 } run;
 
 /* insert 0..N-1 serially in index order with the order given (SAMPLED_BASELINE: sampled,
@@ -109,6 +112,9 @@ static int build(const double *p, enum order o, run *out)
         ok = km_insert(&c, i, &deferred) == GTET_OK && !deferred;
         out->semi_first_insertions += c.semi_first;  /* the order this insertion ran with */
     }
+    out->walk_steps = c.walk_steps;
+    out->orient_calls = c.cnt.orient_calls;
+    out->orient_exact = c.cnt.orient_exact;
     out->nt = m.nt;
     out->tv = malloc(m.nt * 4 * sizeof *out->tv);
     out->tn = malloc(m.nt * 4 * sizeof *out->tn);
@@ -142,6 +148,16 @@ static void test_every_order_builds_the_same_arrays(void)
                        cluster, o, r[o].nt, r[0].nt);
         TEST_CHECK(r[1].semi_first_insertions == N - 4, "forced semi-first ran %ld of %d",
                    r[1].semi_first_insertions, N - 4);
+        /* the walks too: the same steps and tests in either instance, and on the lattice
+         * points some of the four-lane walk's facets go to the exact rest */
+        TEST_CHECK(r[2].walk_steps == r[3].walk_steps && r[2].orient_calls == r[3].orient_calls &&
+                       r[2].orient_exact == r[3].orient_exact,
+                   "cluster %d: walks differ: steps %llu / %llu, orient3d %llu / %llu, exact "
+                   "%llu / %llu", cluster, (unsigned long long)r[2].walk_steps,
+                   (unsigned long long)r[3].walk_steps, (unsigned long long)r[2].orient_calls,
+                   (unsigned long long)r[3].orient_calls, (unsigned long long)r[2].orient_exact,
+                   (unsigned long long)r[3].orient_exact);
+        TEST_CHECK(k == 0 || r[2].orient_exact > 0, "no walk test reached the exact stage");
         for (int o = 0; o < 4; o++) release(&r[o]);
         free(p);
     }
