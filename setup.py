@@ -1,7 +1,7 @@
 """Build of the Python module gigatet: one C extension, gigatet._gigatet, that compiles the
-binding (python/gigatet/_gigatet.c) together with the C library's own sources (every .c of
-src/ and its sub-folders except the command line tool's src/cli/), with the library's
-floating-point flags.  Metadata is in pyproject.toml.
+binding (python/gigatet/_gigatet.c and _gigatet_arrays.c) together with the C library's own
+sources (every .c of src/ and its sub-folders except the command line tool's src/cli/), with
+the library's floating-point flags.  Metadata is in pyproject.toml.
 
     /usr/bin/python3 -m venv --system-site-packages V
     V/bin/pip install --no-build-isolation --no-index .
@@ -150,8 +150,10 @@ os.makedirs(BUILD_DIR, exist_ok=True)
 
 ext = Extension(
     "gigatet._gigatet",
-    sources=[os.path.join("python", "gigatet", "_gigatet.c")] + library_sources(),
-    depends=sorted(glob.glob(os.path.join("src", "**", "*.h"), recursive=True)),
+    sources=[os.path.join("python", "gigatet", f) for f in ("_gigatet.c", "_gigatet_arrays.c")]
+    + library_sources(),
+    depends=sorted(glob.glob(os.path.join("src", "**", "*.h"), recursive=True))
+    + [os.path.join("python", "gigatet", "_gigatet.h")],
     include_dirs=include_dirs(),
     define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")] + library_macros() +
     ([("GTET_AVX2_TU", "1")] if AVX2_UNIT and AVX2_SOURCE in library_sources() else []),
@@ -166,7 +168,7 @@ setup(
     package_dir={"": "python"},
     packages=["gigatet"],
     include_package_data=False,
-    exclude_package_data={"gigatet": ["*.c"]},
+    exclude_package_data={"gigatet": ["*.c", "*.h"]},
     ext_modules=[ext],
     cmdclass={"build_ext": BuildExt},
     # build products and the egg-info stay out of the source tree
