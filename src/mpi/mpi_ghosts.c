@@ -382,10 +382,15 @@ gtet_status mx_step_rounds(run *R)
         /* answer every query with this tile's conflicting points not sent before */
         const query *qs = rb;
         for (int q = 0; q < P; q++) out[q].rs = sizeof(mpt);
+        /* where the scans would be quadratic, the ball queries are answered from DT(X) (D12) */
+        lift L;
+        s = mx_lift_build(R, qs, rt, &L);
         size_t k = 0;
         for (int q = 0; q < P && s == GTET_OK; q++)
             for (size_t i = 0; i < rcnt[q] && s == GTET_OK; i++, k++)
-                s = mx_answer(R, &qs[k], q, &out[q]);
+                s = L.on && qs[k].id[3] != NOID ? mx_answer_lift(R, &L, &qs[k], q, &out[q])
+                                                : mx_answer(R, &qs[k], q, &out[q]);
+        mx_lift_free(&L);
         free(rb);
         if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
         if ((s = exchange_vecs(R, out, sizeof(mpt), &rb, rcnt, &rt)) != GTET_OK) goto done;

@@ -117,6 +117,8 @@ typedef struct grid {
                                    outward (a ball's answer skips the cells it misses) */
     float *bb;                  /* per block of GB^3 cells: the union of its cells' cb (a
                                    query's answer skips the blocks it misses, NOTES.md E203) */
+    uint32_t *sat;              /* (g0 + 1)(g1 + 1)(g2 + 1): the cells' point counts summed
+                                   below each corner, for the answers' gate (mpi_lift.c) */
     unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at
                                    it can reach another tile's box (mx_grid_far, D11) */
 } grid;
@@ -241,6 +243,31 @@ gtet_status mx_grid_far(run *R);
 /* append to out (mpt records) the tile points in conflict with Q not sent to rank `to`
  * before (for a hull facet only those near the nearest one: D3), and mark them sent */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
+
+/* a ball's cell range in the tile grid (the whole grid for B->all): every tile point within
+ * the ball lies in the cells lo..hi (mx_answer's scan range) */
+void mx_ball_range(const grid *G, const ball *B, int lo[3], int hi[3]);
+
+/* a round's answers to circumball queries from DT(X), X = the tile and the queries' vertices
+ * (mpi_lift.c, proofs/distributed.md D12) */
+typedef struct lift {
+    int on;                     /* built: answer the ball queries with mx_answer_lift */
+    size_t nx;                  /* X: S's first m points (the tile), then xp */
+    mpt *xp;                    /* the queries' vertices that are not tile points */
+    size_t *adj0;               /* nx + 1: X vertex i's neighbours in DT(X) are */
+    uint32_t *adj;              /*   adj[adj0[i] .. adj0[i + 1] - 1] */
+    uint64_t *mk;               /* vertex id -> X index: keys (NOID empty) ... */
+    uint32_t *mv;               /* ... and values */
+    size_t mcap;
+    uint32_t *stamp, cur;       /* per X vertex: visited by the search numbered cur */
+    uint32_t *queue;            /* the search's conflicting vertices */
+    size_t qcap;
+} lift;
+/* decide from the queries qs[0..nq) whether the round's scans would visit more than a fixed
+ * multiple of the tile's points; if so build L (L->on); else L->on = 0 */
+gtet_status mx_lift_build(run *R, const query *qs, size_t nq, lift *L);
+gtet_status mx_answer_lift(run *R, lift *L, const query *Q, int to, vec *out);
+void mx_lift_free(lift *L);
 
 void mx_sort4(uint64_t *k);                   /* 4 ids ascending (mpi_ghosts.c) */
 /* the hull facet opposite slot f of local tet tv, in ghost order (mpi_ghosts.c) */

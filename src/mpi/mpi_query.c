@@ -329,6 +329,21 @@ static void ball_clip(const grid *G, const ball *B, int lo[3], int hi[3])
     }
 }
 
+void mx_ball_range(const grid *G, const ball *B, int lo[3], int hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = 0;
+        hi[k] = G->g[k] - 1;
+    }
+    if (B->all) return;
+    for (int k = 0; k < 3; k++) {
+        double r = B->r * (1 + 1e-9);
+        lo[k] = cell_of(G, k, B->c[k] - r);
+        hi[k] = cell_of(G, k, B->c[k] + r);
+    }
+    ball_clip(G, B, lo, hi);
+}
+
 /* A hull facet's answer (out's records from n0 on, ids still tile indices): only the points
  * within the layer width of this tile of the nearest one's distance to rank `to`'s box, which
  * are marked sent and get their ids back.  The halfspace beyond a facet of `to`'s local hull
@@ -366,19 +381,16 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
     size_t n0 = out->n;
     ball B = {{0, 0, 0}, 0, 1};
     hspace H = {{0, 0, 0}, {0, 0, 0}, 0, 1};
-    int lo[3] = {0, 0, 0}, hi[3] = {G->g[0] - 1, G->g[1] - 1, G->g[2] - 1};
+    int lo[3], hi[3];
     if (hull) {
         hspace_init(&H, Q->p[0], Q->p[1], Q->p[2]);
+        for (int k = 0; k < 3; k++) {
+            lo[k] = 0;
+            hi[k] = G->g[k] - 1;
+        }
     } else {
         mx_tet_ball(Q->p[0], Q->p[1], Q->p[2], Q->p[3], &B);
-        if (!B.all) {
-            for (int k = 0; k < 3; k++) {
-                double r = B.r * (1 + 1e-9);
-                lo[k] = cell_of(G, k, B.c[k] - r);
-                hi[k] = cell_of(G, k, B.c[k] + r);
-            }
-            ball_clip(G, &B, lo, hi);
-        }
+        mx_ball_range(G, &B, lo, hi);
     }
     /* blocks of GB^3 cells first: skipped when their box misses the halfspace or the ball (a
      * flat tet near the hull has a huge ball whose cell range is the whole tile) */
@@ -425,6 +437,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                     /* the block filter's test, point by point (D4) */
                                     if (!H.all && !hspace_may_reach(&H, p->x)) continue;
                                     if (mx_sent(R, j, to)) continue;
+                                    R->c.st->answer_tests++;
                                     conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2],
                                                                    p->x) > 0;
                                 } else {
@@ -436,6 +449,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                                             continue;
                                     }
                                     if (mx_sent(R, j, to)) continue;
+                                    R->c.st->answer_tests++;
                                     conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2],
                                                                  Q->p[3], p->x) > 0;
                                 }

@@ -66,6 +66,7 @@ static void run_free(run *R)
     free(R->gr.cb);
     free(R->gr.bb);
     free(R->gr.far);
+    free(R->gr.sat);
     free(R->prev);
     gtet_mesh_free(&R->mesh);
     free(R->ptv);
