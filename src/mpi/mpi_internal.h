@@ -56,6 +56,9 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
 
 double mx_now(void);
 
+/* a test switch from the environment: -1 for "off" or "0", 1 for "on" or "1", else 0 */
+int mx_env_mode(const char *name);
+
 /* gtet_options.input_done for a local triangulation's own copy of its points: user is the
  * address of the double * to free (and set to NULL).  The kernel calls it once it has copied
  * the points (src/api/triangulate.c), so its later arrays can take that block instead of fresh

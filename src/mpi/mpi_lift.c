@@ -215,14 +215,16 @@ gtet_status mx_lift_build(run *R, const query *qs, size_t nq, lift *L)
     for (size_t k = 0; k < nq; k++) {
         if (qs[k].id[3] == NOID) continue;
         nball++;
-        if (visit > limit) continue;
+        if (visit > limit) continue;   /* decided: only nball is still counted */
         ball B;
         int lo[3], hi[3];
         mx_tet_ball(qs[k].p[0], qs[k].p[1], qs[k].p[2], qs[k].p[3], &B);
         mx_ball_range(&R->gr, &B, lo, hi);
         visit += grid_count(&R->gr, lo, hi);
     }
-    if (visit <= limit) return GTET_OK;
+    /* GTET_MPI_LIFT=off: always the scans; =on: always DT(X) (the tests compare the three) */
+    int mode = mx_env_mode("GTET_MPI_LIFT");
+    if (mode < 0 || (mode == 0 && visit <= limit)) return GTET_OK;
     int ok = 0;
     if ((s = lift_collect(R, L, qs, nq, nball)) == GTET_OK) s = lift_triangulate(R, L, &ok);
     if (s != GTET_OK || !ok) {
