@@ -120,6 +120,11 @@ typedef struct grid {
                                    outward (a ball's answer skips the cells it misses) */
     float *bb;                  /* per block of GB^3 cells: the union of its cells' cb (a
                                    query's answer skips the blocks it misses, NOTES.md E203) */
+    float *pyr;                 /* the block boxes' pyramid: level 0 the blocks' boxes (bb),
+                                   level l + 1 each node the union of its 2^3 children at
+                                   level l, up to one node (grid_pyramid) */
+    size_t poff[24];            /* level l's boxes start at pyr + poff[l] */
+    int pdim[24][3], nlev;      /* level l's nodes per axis; the number of levels */
     uint32_t *sat;              /* (g0 + 1)(g1 + 1)(g2 + 1): the cells' point counts summed
                                    below each corner, for the answers' gate (mpi_lift.c) */
     unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at

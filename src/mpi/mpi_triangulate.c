@@ -67,6 +67,7 @@ static void run_free(run *R)
     free(R->gr.bb);
     free(R->gr.far);
     free(R->gr.sat);
+    free(R->gr.pyr);
     free(R->prev);
     gtet_mesh_free(&R->mesh);
     free(R->ptv);
