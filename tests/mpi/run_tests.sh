@@ -97,6 +97,36 @@ sys.exit(not (d['rounds'] >= 2 and d['hull_facets'] == hull and
       ok "$s np=$np: later rounds patched, hull facets counted"
     else bad "$s np=$np: rounds/rebuilds/scans/hull facets: $(cat stats.json) $(cat ref_stats.json)"; fi
   done; done
+  # D12: a round's tet queries answered from DT(tile + the queries' vertices) give the same
+  # answers as the grid scans: GTET_MPI_LIFT=on (always) and =off (never) must give the same
+  # mesh and the same ghost points on every rank, on sets with every insphere degenerate (grid,
+  # co-spherical), on a sphere and on uniform points
+  g() { python3 -c "import json, sys; print([r['ghost_points'] for r in json.loads(sys.stdin.read().splitlines()[-1])['per_rank']])"; }
+  for s in uniform grid cosph sphere; do for np in 2 3; do
+    a=$(GTET_MPI_LIFT=off run "$np" -x GTET_MPI_LIFT "$mpicli" triangulate "$s.xyz" -q --stats | g)
+    if GTET_MPI_LIFT=on run "$np" -x GTET_MPI_LIFT "$mpicli" triangulate "$s.xyz" -q --stats \
+         -o "d_$s.vtu" > lift.json && "$cli" diff "ref_$s.vtu" "d_$s.vtu" -q &&
+       [ -n "$a" ] && [ "$(g < lift.json)" = "$a" ]; then ok "$s np=$np: answers from DT(X) = scans ($a)"
+    else bad "$s np=$np: GTET_MPI_LIFT=on: $(cat lift.json), ghosts with off: $a"; fi
+  done; done
+  # the sphere's answers are near-linear: the exact tests they make (answer_tests) stay under
+  # 100 a point where the scans made ~n/2 a point (20k points, np 2: 4.3e8 tests, 44 s before
+  # D12), and the same counter sees the scans' quadratic cost with GTET_MPI_LIFT=off (4000
+  # points: over 100 a point)
+  "$cli" generate sphere 20000 --seed 1 -o sph20k.bin -q; ref sph20k sph20k.bin
+  "$cli" generate sphere 4000 --seed 2 -o sph4k.bin -q; ref sph4k sph4k.bin
+  t() { python3 -c "import json, sys; print(max(r['answer_tests'] for r in json.loads(sys.stdin.read().splitlines()[-1])['per_rank']))"; }
+  for np in 2 4; do
+    if run "$np" "$mpicli" triangulate sph20k.bin -q --stats -o d_sph20k.vtu > st.json &&
+       "$cli" diff ref_sph20k.vtu d_sph20k.vtu -q && [ "$(t < st.json)" -le 2000000 ]; then
+      ok "sphere 20k np=$np: identical, $(t < st.json) exact tests in a rank's answers"
+    else bad "sphere 20k np=$np: $(cat st.json)"; fi
+  done
+  a=$(run 2 "$mpicli" triangulate sph4k.bin -q --stats | t)
+  b=$(GTET_MPI_LIFT=off run 2 -x GTET_MPI_LIFT "$mpicli" triangulate sph4k.bin -q --stats | t)
+  if [ -n "$a" ] && [ -n "$b" ] && [ "$a" -le 400000 ] && [ "$b" -gt 400000 ]; then
+    ok "sphere 4k np=2: $a exact tests in a rank's answers ($b with the scans)"
+  else bad "sphere 4k np=2: $a exact tests in a rank's answers, $b with the scans (bound 400000)"; fi
   # a thin slab (3000 points, z in [0, 0.02]): here the tets a patched round makes have
   # circumballs reaching points of other tiles that no earlier query fetched, so the mesh is
   # right only if a later round queries its new tets (proofs/distributed.md 6b): with no
