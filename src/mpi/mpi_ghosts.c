@@ -173,7 +173,8 @@ gtet_status mx_step_seed(run *R, double layer)
         mpt *sp = mx_malloc(want * sizeof *sp);
         int *so = mx_malloc(want * sizeof *so);
         R->sent_any = mx_calloc((R->m + 63) / 64, sizeof *R->sent_any);
-        if (!sp || !so || !R->sent_any || mx_hs_grow(&R->have, cap) != 0) {
+        R->nsent = mx_calloc((size_t)P, sizeof *R->nsent);
+        if (!sp || !so || !R->sent_any || !R->nsent || mx_hs_grow(&R->have, cap) != 0) {
             free(sp);
             free(so);
             s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");

@@ -161,6 +161,8 @@ typedef struct run {
     hset have;                  /* vertex ids of S's ghosts (S's tile points: s_add) */
     hset sent;                  /* tile index * P + rank: sent to that rank */
     uint64_t *sent_any;         /* a bit per tile index: sent to some rank (mx_sent) */
+    size_t *nsent;              /* per rank: the tile points sent to it (mx_mark_sent); when
+                                   all m were, every answer to it is empty (D12) */
     grid gr;
     gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
     uint32_t *ptv, *ptn;        /* ... or, once patched (mx_patch), DT(S) as 4 vertex ids and */
@@ -297,7 +299,9 @@ static inline int mx_sent(const run *R, size_t i, int to)
 static inline int mx_mark_sent(run *R, size_t i, int to)
 {
     R->sent_any[i >> 6] |= (uint64_t)1 << (i & 63);
-    return mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)R->c.size + (uint64_t)to);
+    int a = mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)R->c.size + (uint64_t)to);
+    R->nsent[to] += a > 0;
+    return a;
 }
 
 /* the current local triangulation, patched or not (nothing: *nt = 0, NULL arrays) */

@@ -249,6 +249,8 @@ static int cmp_u32(const void *a, const void *b)
 gtet_status mx_answer_lift(run *R, lift *L, const query *Q, int to, vec *out)
 {
     uint32_t v[4];
+    /* every tile point was sent to `to` before: nothing to answer (6c) */
+    if (R->nsent[to] == R->m) return GTET_OK;
     for (int i = 0; i < 4; i++)
         if (!map_find(L, Q->id[i], &v[i])) return mx_answer(R, Q, to, out);
     if (++L->cur == 0) {

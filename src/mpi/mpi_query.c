@@ -537,7 +537,8 @@ static gtet_status scan_pyramid(run *R, const scan *W)
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
 {
     grid *G = &R->gr;
-    if (R->m == 0) return GTET_OK;
+    /* every tile point was sent to `to` before: nothing to answer (6c) */
+    if (R->m == 0 || R->nsent[to] == R->m) return GTET_OK;
     scan W;
     W.Q = Q;
     W.hull = Q->id[3] == NOID;

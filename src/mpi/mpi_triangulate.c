@@ -62,6 +62,7 @@ static void run_free(run *R)
     free(R->have.k);
     free(R->sent.k);
     free(R->sent_any);
+    free(R->nsent);
     free(R->gr.start);
     free(R->gr.cb);
     free(R->gr.bb);
