@@ -357,6 +357,9 @@ gtet_status mx_step_rounds(run *R)
 {
     int P = R->c.size;
     gtet_status s = GTET_OK;
+    /* the answers' triangulation, kept while it serves (mx_lift_build) */
+    lift L;
+    memset(&L, 0, sizeof L);
     vec *out = mx_calloc((size_t)P, sizeof *out);
     size_t *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
     if (!out || !rcnt) s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
@@ -384,14 +387,12 @@ gtet_status mx_step_rounds(run *R)
         const query *qs = rb;
         for (int q = 0; q < P; q++) out[q].rs = sizeof(mpt);
         /* where the scans would be quadratic, the ball queries are answered from DT(X) (D12) */
-        lift L;
         s = mx_lift_build(R, qs, rt, &L);
         size_t k = 0;
         for (int q = 0; q < P && s == GTET_OK; q++)
             for (size_t i = 0; i < rcnt[q] && s == GTET_OK; i++, k++)
                 s = L.on && qs[k].id[3] != NOID ? mx_answer_lift(R, &L, &qs[k], q, &out[q])
                                                 : mx_answer(R, &qs[k], q, &out[q]);
-        mx_lift_free(&L);
         free(rb);
         if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
         if ((s = exchange_vecs(R, out, sizeof(mpt), &rb, rcnt, &rt)) != GTET_OK) goto done;
@@ -405,6 +406,7 @@ gtet_status mx_step_rounds(run *R)
         if (gadded == 0) break;   /* every queried tet is certified: S is final (D3) */
     }
 done:
+    mx_lift_free(&L);
     if (out)
         for (int q = 0; q < P; q++) free(out[q].p);
     free(out);

@@ -272,9 +272,14 @@ typedef struct lift {
     uint32_t *stamp, cur;       /* per X vertex: visited by the search numbered cur */
     uint32_t *queue;            /* the search's conflicting vertices */
     size_t qcap;
+    uint32_t (*tets)[4];        /* DT(X)'s tets, X indices ascending, open addressing (row
+                                   [0] == UINT32_MAX empty): a query's tet found here has an
+                                   empty answer */
+    size_t tcap;
 } lift;
 /* decide from the queries qs[0..nq) whether the round's scans would visit more than a fixed
- * multiple of the tile's points; if so build L (L->on); else L->on = 0 */
+ * multiple of the tile's points; if so build L (L->on); else L->on = 0.  L (zeroed before the
+ * first round) is kept from the previous round when it holds every vertex of qs's tets */
 gtet_status mx_lift_build(run *R, const query *qs, size_t nq, lift *L);
 gtet_status mx_answer_lift(run *R, lift *L, const query *Q, int to, vec *out);
 void mx_lift_free(lift *L);

@@ -87,6 +87,7 @@ void mx_lift_free(lift *L)
     free(L->stamp);
     free(L->queue);
     free(L->xp);
+    free(L->tets);
     memset(L, 0, sizeof *L);
 }
 
@@ -169,6 +170,54 @@ static gtet_status lift_adjacency(run *R, lift *L, const gtet_mesh *M)
     return GTET_OK;
 }
 
+static void sort4u(uint32_t *k)
+{
+    for (int i = 1; i < 4; i++)
+        for (int j = i; j > 0 && k[j - 1] > k[j]; j--) {
+            uint32_t t = k[j];
+            k[j] = k[j - 1];
+            k[j - 1] = t;
+        }
+}
+
+static size_t tet_hash(const uint32_t *k, size_t mask)
+{
+    uint64_t a = ((uint64_t)k[0] << 32 | k[1]), b = ((uint64_t)k[2] << 32 | k[3]);
+    return (size_t)mx_mix64(a ^ mx_mix64(b)) & mask;
+}
+
+/* is the tet with X indices k (ascending) a tet of DT(X)? */
+static int tet_in(const lift *L, const uint32_t *k)
+{
+    size_t mask = L->tcap - 1;
+    for (size_t h = tet_hash(k, mask);; h = (h + 1) & mask) {
+        const uint32_t *e = L->tets[h];
+        if (e[0] == UINT32_MAX) return 0;
+        if (e[0] == k[0] && e[1] == k[1] && e[2] == k[2] && e[3] == k[3]) return 1;
+    }
+}
+
+/* L->tets: DT(X)'s tets by their sorted X indices */
+static gtet_status lift_tets(run *R, lift *L, const gtet_mesh *M)
+{
+    size_t nt = gtet_mesh_num_tets(M);
+    const uint32_t *tv = gtet_mesh_tets(M);
+    L->tcap = 16;
+    while (L->tcap < nt + nt / 2 + 16) L->tcap *= 2;
+    L->tets = mx_malloc(L->tcap * sizeof *L->tets);
+    if (!L->tets) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (answers' triangulation)");
+    memset(L->tets, 0xff, L->tcap * sizeof *L->tets);
+    size_t mask = L->tcap - 1;
+    for (size_t t = 0; t < nt; t++) {
+        uint32_t k[4] = {tv[4 * t], tv[4 * t + 1], tv[4 * t + 2], tv[4 * t + 3]};
+        sort4u(k);
+        size_t h = tet_hash(k, mask);
+        while (L->tets[h][0] != UINT32_MAX) h = (h + 1) & mask;
+        memcpy(L->tets[h], k, sizeof k);
+    }
+    return GTET_OK;
+}
+
 /* DT(X) by the kernel (X is distinct: D1); *ok = 0 when X is not 3-dimensional (then the
  * round scans) */
 static gtet_status lift_triangulate(run *R, lift *L, int *ok)
@@ -197,15 +246,31 @@ static gtet_status lift_triangulate(run *R, lift *L, int *ok)
                        R->c.rank);
     }
     s = lift_adjacency(R, L, M);
+    if (s == GTET_OK) s = lift_tets(R, L, M);
     gtet_mesh_free(&M);
     *ok = s == GTET_OK;
     return s;
 }
 
+/* does L hold every vertex of the tet queries?  (then the lemma of D12 applies to them with
+ * the same X: it asks only X ⊇ the tile and the tet's vertices) */
+static int lift_holds(const lift *L, const query *qs, size_t nq)
+{
+    for (size_t k = 0; k < nq; k++) {
+        if (qs[k].id[3] == NOID) continue;
+        for (int i = 0; i < 4; i++) {
+            uint32_t ix;
+            if (!map_find(L, qs[k].id[i], &ix)) return 0;
+        }
+    }
+    return 1;
+}
+
 gtet_status mx_lift_build(run *R, const query *qs, size_t nq, lift *L)
 {
-    memset(L, 0, sizeof *L);
     size_t m = R->m, nball = 0;
+    if (L->on && lift_holds(L, qs, nq)) return GTET_OK;
+    mx_lift_free(L);
     if (m == 0 || nq == 0) return GTET_OK;
     gtet_status s = grid_sat(R);
     if (s != GTET_OK) return s;
@@ -253,6 +318,10 @@ gtet_status mx_answer_lift(run *R, lift *L, const query *Q, int to, vec *out)
     if (R->nsent[to] == R->m) return GTET_OK;
     for (int i = 0; i < 4; i++)
         if (!map_find(L, Q->id[i], &v[i])) return mx_answer(R, Q, to, out);
+    /* a tet of DT(X): no point of X conflicts with it (P4), the answer is empty */
+    uint32_t key[4] = {v[0], v[1], v[2], v[3]};
+    sort4u(key);
+    if (tet_in(L, key)) return GTET_OK;
     if (++L->cur == 0) {
         memset(L->stamp, 0, (L->nx + 1) * sizeof *L->stamp);
         L->cur = 1;
