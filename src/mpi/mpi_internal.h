@@ -272,6 +272,8 @@ typedef struct lift {
     uint32_t *stamp, cur;       /* per X vertex: visited by the search numbered cur */
     uint32_t *queue;            /* the search's conflicting vertices */
     size_t qcap;
+    uint64_t *work;             /* per asking rank: this round's exact tests for it; past
+                                   LIFT_DUMP_LIMIT m the rest of the tile is sent (D12) */
     uint32_t (*tets)[4];        /* DT(X)'s tets, X indices ascending, open addressing (row
                                    [0] == UINT32_MAX empty): a query's tet found here has an
                                    empty answer */

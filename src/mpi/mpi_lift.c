@@ -24,6 +24,14 @@
 #define LIFT_SCAN_LIMIT 32
 #endif
 
+/* A round's searches for one asking rank may make up to LIFT_DUMP_LIMIT exact tests per tile
+ * point; past that, the rest of the tile not sent to it yet is its answer (D12: a complete
+ * answer).  Where the tets' conflict sets are large (surface samples, whose ghosts are most of
+ * the other tiles) the searches would go over the same points query after query. */
+#ifndef LIFT_DUMP_LIMIT
+#define LIFT_DUMP_LIMIT 16
+#endif
+
 /* the summed-area table of the grid's cell counts: sat[((z * (g1 + 1)) + y) * (g0 + 1) + x]
  * counts the points of the cells below (x, y, z) on every axis; built once a run */
 static gtet_status grid_sat(run *R)
@@ -88,6 +96,7 @@ void mx_lift_free(lift *L)
     free(L->queue);
     free(L->xp);
     free(L->tets);
+    free(L->work);
     memset(L, 0, sizeof *L);
 }
 
@@ -269,7 +278,10 @@ static int lift_holds(const lift *L, const query *qs, size_t nq)
 gtet_status mx_lift_build(run *R, const query *qs, size_t nq, lift *L)
 {
     size_t m = R->m, nball = 0;
-    if (L->on && lift_holds(L, qs, nq)) return GTET_OK;
+    if (L->on && lift_holds(L, qs, nq)) {
+        memset(L->work, 0, (size_t)R->c.size * sizeof *L->work);
+        return GTET_OK;
+    }
     mx_lift_free(L);
     if (m == 0 || nq == 0) return GTET_OK;
     gtet_status s = grid_sat(R);
@@ -291,7 +303,10 @@ gtet_status mx_lift_build(run *R, const query *qs, size_t nq, lift *L)
     int mode = mx_env_mode("GTET_MPI_LIFT");
     if (mode < 0 || (mode == 0 && visit <= limit)) return GTET_OK;
     int ok = 0;
-    if ((s = lift_collect(R, L, qs, nq, nball)) == GTET_OK) s = lift_triangulate(R, L, &ok);
+    L->work = mx_calloc((size_t)R->c.size, sizeof *L->work);
+    if (!L->work) s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    if (s == GTET_OK && (s = lift_collect(R, L, qs, nq, nball)) == GTET_OK)
+        s = lift_triangulate(R, L, &ok);
     if (s != GTET_OK || !ok) {
         mx_lift_free(L);
         return s;
@@ -311,11 +326,28 @@ static int cmp_u32(const void *a, const void *b)
  * in tile order and marked sent: the same set mx_answer's scan gives (D12).  The search starts
  * at Q's first vertex, whose neighbours include a conflicting point whenever one exists, and
  * crosses conflicting points only; Q's vertices are never tested (the scan skips them too). */
+/* the tile points not sent to `to` yet, in tile order, marked sent: a complete answer (D12) */
+static gtet_status lift_dump(run *R, int to, vec *out)
+{
+    for (size_t j = 0; j < R->m; j++) {
+        if (mx_sent(R, j, to)) continue;
+        mpt *o = mx_vec_push(out);
+        if (!o || mx_mark_sent(R, j, to) < 0)
+            return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+        *o = R->sp[j];
+    }
+    return GTET_OK;
+}
+
 gtet_status mx_answer_lift(run *R, lift *L, const query *Q, int to, vec *out)
 {
     uint32_t v[4];
     /* every tile point was sent to `to` before: nothing to answer (6c) */
     if (R->nsent[to] == R->m) return GTET_OK;
+    /* this round's searches for `to` went over the limit: the rest of the tile (GTET_MPI_DUMP=off:
+     * never, for the tests that compare the answers with the scans') */
+    if (L->work[to] > (uint64_t)LIFT_DUMP_LIMIT * R->m && mx_env_mode("GTET_MPI_DUMP") >= 0)
+        return lift_dump(R, to, out);
     for (int i = 0; i < 4; i++)
         if (!map_find(L, Q->id[i], &v[i])) return mx_answer(R, Q, to, out);
     /* a tet of DT(X): no point of X conflicts with it (P4), the answer is empty */
@@ -335,6 +367,7 @@ gtet_status mx_answer_lift(run *R, lift *L, const query *Q, int to, vec *out)
             if (L->stamp[u] == L->cur) continue;
             L->stamp[u] = L->cur;
             R->c.st->answer_tests++;
+            L->work[to]++;
             if (gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2], Q->p[3], lift_point(R, L, u)) <= 0)
                 continue;
             if (nk == L->qcap) {
