@@ -8,7 +8,9 @@
  * query's tet are the vertices a search from one of the tet's vertices reaches through
  * vertices in conflict in DT(X), so an answer costs the tests of the conflicting points and
  * their neighbours only.  Which way a round answers is decided from the points the scans
- * would visit (mx_lift_build's gate): the answers are the same sets either way. */
+ * would visit (mx_lift_build's gate): the answers are the same sets either way, until a
+ * round's searches for one asker go over LIFT_DUMP_LIMIT (then its answers are complete:
+ * the rest of the tile). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>
 #include <string.h>
