@@ -264,6 +264,12 @@ open('nan.bin','wb').write(b)"
   for k in 0 3 9 20 40; do
     GTET_MPI_FAIL_ALLOC="1:$k" each_rank_code 3 4 "allocation $k fails on rank 1" -- "$mpicli" triangulate u.bin -q
   done
+  # a sphere's rounds answer from DT(tile + the queries' vertices) (D12): rank 1's allocations
+  # 79-90 are that triangulation's (its map, points, adjacency, tets, the searches' queue)
+  "$cli" generate sphere 3000 --seed 4 -o sph3k.bin -q
+  for k in 70 76 79 80 82 84 86 88 90 96; do
+    GTET_MPI_FAIL_ALLOC="1:$k" each_rank_code 2 4 "sphere: allocation $k fails on rank 1" -- "$mpicli" triangulate sph3k.bin -q
+  done
   GTET_MPI_FAIL_ALLOC="2:25" each_rank_code 4 4 "allocation fails on rank 2 (-o)" -- "$mpicli" triangulate u.bin -o oom.vtu -q
   if ls oom* 2>/dev/null; then bad "partial output after OOM"; else ok "no output after OOM"; fi
   python3 -c "
