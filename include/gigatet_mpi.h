@@ -55,6 +55,12 @@ typedef struct gtet_mpi_stats {
     uint64_t queries_sent;      /* conflict queries (circumballs, hull halfspaces) it sent */
     uint64_t bytes_sent;        /* bytes it sent to other ranks, all steps (MPI payload) */
     uint64_t bytes_sent_ghost;  /* ... of which for ghost points and queries */
+    uint64_t answer_tests;      /* exact conflict tests (insphere, hull rule) its answers to
+                                   other ranks' queries made: near-linear in the points on every
+                                   input (proofs/distributed.md D12) */
+    int answer_lifts;           /* rounds in which it answered the circumball queries from a
+                                   triangulation of its tile and their vertices (D12) instead
+                                   of scanning its tile's grid */
     double seconds_validate;    /* NaN scan, duplicates, global vertex ids, dimension */
     double seconds_partition;   /* kd tiles from a sample, points to their tiles */
     double seconds_triangulate; /* local gtet_triangulate calls, summed over rounds */

@@ -491,7 +491,7 @@ static void print_stats(const args *a, const gtet_mpi_result *r, double seconds_
         const gtet_mpi_stats *s = &all[q];
         printf("%s{\"rank\":%d,\"tile_points\":%llu,\"ghost_points\":%llu,\"ghost_seeded\":%llu,"
                "\"rebuilds\":%d,\"scans\":%d,\"queries_sent\":%llu,\"bytes_sent\":%llu,"
-               "\"bytes_sent_ghost\":%llu,"
+               "\"bytes_sent_ghost\":%llu,\"answer_tests\":%llu,\"answer_lifts\":%d,"
                "\"tets\":%llu,\"seconds\":{\"validate\":%.6f,\"partition\":%.6f,"
                "\"triangulate\":%.6f,\"exchange\":%.6f,\"output\":%.6f,\"total\":%.6f}}",
                q ? "," : "", q, (unsigned long long)s->tile_points,
@@ -499,6 +499,7 @@ static void print_stats(const args *a, const gtet_mpi_result *r, double seconds_
                s->rebuilds, s->scans, (unsigned long long)s->queries_sent,
                (unsigned long long)s->bytes_sent,
                (unsigned long long)s->bytes_sent_ghost,
+               (unsigned long long)s->answer_tests, s->answer_lifts,
                (unsigned long long)(r->tet_offsets[q + 1] - r->tet_offsets[q]),
                s->seconds_validate, s->seconds_partition, s->seconds_triangulate,
                s->seconds_exchange, s->seconds_output, s->seconds_total);

@@ -68,8 +68,9 @@ static int ngrid_build(ngrid *G, const run *R, size_t n_old)
     return 0;
 }
 
-/* does a new point conflict with tet v?  (cells the conservative ball reaches, D4) */
-static int tet_conflicts(const run *R, const ngrid *G, const uint32_t *v)
+/* does a new point conflict with tet v?  (cells the conservative ball reaches, D4); *work
+ * counts the exact tests */
+static int tet_conflicts(const run *R, const ngrid *G, const uint32_t *v, uint64_t *work)
 {
     const mpt *sp = R->sp;
     ball B;
@@ -97,6 +98,7 @@ static int tet_conflicts(const run *R, const ngrid *G, const uint32_t *v)
                         double d0 = p[0] - B.c[0], d1 = p[1] - B.c[1], d2 = p[2] - B.c[2];
                         if (sqrt(d0 * d0 + d1 * d1 + d2 * d2) > B.r * (1 + 1e-9)) continue;
                     }
+                    ++*work;
                     if (gtet_insphere_sos(sp[v[0]].x, sp[v[1]].x, sp[v[2]].x, sp[v[3]].x, p) > 0)
                         return 1;
                 }
@@ -108,7 +110,8 @@ static int find_cavity_walk(patch *X, const ngrid *G);
 
 /* mark C and H: the tets and the hull facets some new point conflicts with (exact
  * predicates), by locating the new points (D10) or, should that fail, by testing every tet
- * (the grid and the balls only prune, D4); -1 out of memory */
+ * (the grid and the balls only prune, D4); -1 out of memory, 1 over the growth's budget (the
+ * caller triangulates from scratch) */
 int mx_find_cavity(patch *X)
 {
     const run *R = X->R;
@@ -119,12 +122,13 @@ int mx_find_cavity(patch *X)
     if (w != 0) {
         free(G.start);
         free(G.idx);
-        return w < 0 ? -1 : 0;
+        return w < 0 ? -1 : w == 2 ? 1 : 0;
     }
     R->c.st->scans++;
     for (size_t t = 0; t < X->nt; t++) {
         const uint32_t *v = X->tv + 4 * t;
-        if (tet_conflicts(R, &G, v)) X->cf[t] |= 16;
+        uint64_t work = 0;
+        if (tet_conflicts(R, &G, v, &work)) X->cf[t] |= 16;
         for (int f = 0; f < 4; f++) {
             if (X->nb[4 * t + f] != GTET_NO_TET) continue;
             uint32_t h[3];
@@ -227,12 +231,12 @@ static uint64_t ghost_across(const patch *X, uint32_t t, uint32_t a, uint32_t b,
  * (u x w) . d with u = b - a, w = c - a, d = p - a: a value below -1e-12 times its permanent is
  * negative exactly, Shewchuk's bound being (7 + 56 eps) eps ~ 1.6e-15 times it; NaN and
  * infinities from overflow fail the comparison and go to the exact predicate) */
-static int node_conflicts_any(const patch *X, const ngrid *G, uint64_t node)
+static int node_conflicts_any(const patch *X, const ngrid *G, uint64_t node, uint64_t *work)
 {
     const run *R = X->R;
     const mpt *sp = R->sp;
     const uint32_t *v = X->tv + 4 * (size_t)(node / 5);
-    if (node % 5 == 4) return tet_conflicts(R, G, v);
+    if (node % 5 == 4) return tet_conflicts(R, G, v, work);
     uint32_t h[3];
     mx_hull_facet(R, v, (int)(node % 5), h);
     const double *a = sp[h[0]].x, *b = sp[h[1]].x, *c = sp[h[2]].x;
@@ -252,6 +256,7 @@ static int node_conflicts_any(const patch *X, const ngrid *G, uint64_t node)
         double val = n[0] * d0 + n[1] * d1 + n[2] * d2;
         double perm = m[0] * fabs(d0) + m[1] * fabs(d1) + m[2] * fabs(d2);
         if (val < -1e-12 * perm) continue;
+        ++*work;
         if (gtet_ghost_conflict(a, b, c, p) > 0) return 1;
     }
     return 0;
@@ -262,6 +267,8 @@ typedef struct grow {
     uint8_t *tested;
     uint64_t *queue;
     size_t nq, cap;
+    uint64_t work, budget;   /* the exact tests "some point of N" made, and the most it may
+                                make before the patch gives way to a new triangulation */
 } grow;
 
 /* queue a node in conflict (marking it in C or H); 0, or -1 out of memory */
@@ -279,42 +286,57 @@ static int queue_node(patch *X, grow *Q, uint64_t node)
     return 0;
 }
 
-/* test a node not tested yet and queue it if some new point conflicts with it */
+/* test a node not tested yet and queue it if some new point conflicts with it; 0, -1 out of
+ * memory, 2 over the budget */
 static int visit(patch *X, const ngrid *G, grow *Q, uint64_t node)
 {
     uint8_t bit = (uint8_t)(node % 5 == 4 ? 16 : 1u << (node % 5));
     if (Q->tested[node / 5] & bit) return 0;
     Q->tested[node / 5] |= bit;
-    return node_conflicts_any(X, G, node) ? queue_node(X, Q, node) : 0;
+    int c = node_conflicts_any(X, G, node, &Q->work);
+    if (Q->work > Q->budget) return 2;
+    return c ? queue_node(X, Q, node) : 0;
+}
+
+/* the conflict graph's neighbours of a node (D10): a tet's four (tets, or ghosts on its hull
+ * facets), a ghost's tet and the three ghosts across its edges; their number, or -1 when a turn
+ * around a hull edge does not end (fall back) */
+static int node_neighbours(const patch *X, uint64_t node, uint64_t nbr[4])
+{
+    uint32_t t = (uint32_t)(node / 5);
+    const uint32_t *v = X->tv + 4 * (size_t)t;
+    int f = (int)(node % 5);
+    if (f == 4) {
+        for (int g = 0; g < 4; g++) {
+            uint32_t u = X->nb[4 * (size_t)t + g];
+            nbr[g] = u == GTET_NO_TET ? GHOST_NODE(t, g) : TET_NODE(u);
+        }
+        return 4;
+    }
+    nbr[0] = TET_NODE(t);
+    uint32_t h[3];
+    int j = 0;
+    for (int i = 0; i < 4; i++)
+        if (i != f) h[j++] = v[i];
+    for (int e = 0; e < 3; e++) {
+        nbr[1 + e] = ghost_across(X, t, h[(e + 1) % 3], h[(e + 2) % 3], h[e]);
+        if (nbr[1 + e] == NONE64) return -1;
+    }
+    return 4;
 }
 
 /* from the queued seeds, every node some new point conflicts with that is connected to them
  * through such nodes (tets by facets, a ghost to its tet and to the ghosts across its edges);
- * 1 ok, 0 fall back (a turn around a hull edge failed), -1 OOM */
+ * 1 ok, 0 fall back (a turn around a hull edge failed), -1 OOM, 2 over the budget */
 static int grow_cavity(patch *X, const ngrid *G, grow *Q)
 {
     for (size_t at = 0; at < Q->nq; at++) {
-        uint64_t node = Q->queue[at];
-        uint32_t t = (uint32_t)(node / 5);
-        const uint32_t *v = X->tv + 4 * (size_t)t;
-        int f = (int)(node % 5);
-        if (f == 4) {
-            for (int g = 0; g < 4; g++) {
-                uint32_t u = X->nb[4 * (size_t)t + g];
-                if (visit(X, G, Q, u == GTET_NO_TET ? GHOST_NODE(t, g) : TET_NODE(u)) < 0)
-                    return -1;
-            }
-            continue;
-        }
-        if (visit(X, G, Q, TET_NODE(t)) < 0) return -1;
-        uint32_t h[3];
-        int j = 0;
-        for (int i = 0; i < 4; i++)
-            if (i != f) h[j++] = v[i];
-        for (int e = 0; e < 3; e++) {
-            uint64_t g = ghost_across(X, t, h[(e + 1) % 3], h[(e + 2) % 3], h[e]);
-            if (g == NONE64) return 0;
-            if (visit(X, G, Q, g) < 0) return -1;
+        uint64_t nbr[4];
+        int k = node_neighbours(X, Q->queue[at], nbr);
+        if (k < 0) return 0;
+        for (int i = 0; i < k; i++) {
+            int r = visit(X, G, Q, nbr[i]);
+            if (r != 0) return r == 2 ? 2 : -1;
         }
     }
     return 1;
@@ -337,14 +359,21 @@ static uint64_t seed_node(const patch *X, uint32_t t, int hf, const double *p)
 /* C and H grown from one node in conflict with each new point, found by a walk that locates
  * the point (D10): the cost is in C, H, their boundary and the walks, not the mesh.  The new
  * points are visited cell by cell (each walk starts where the last one ended).  1 done, 0
- * fall back to the scan (X->cf reset), -1 out of memory */
+ * fall back to the scan (X->cf reset), -1 out of memory, 2 over the budget */
 static int find_cavity_walk(patch *X, const ngrid *G)
 {
     const run *R = X->R;
     size_t nn = R->ns - X->n_old;
     if (X->nt == 0) return 0;
-    grow Q = {mx_calloc(X->nt + 1, 1), NULL, 0, 0};
+    grow Q = {mx_calloc(X->nt + 1, 1), NULL, 0, 0, 0, 0};
     int ok = Q.tested ? 1 : -1;
+    /* the tests of "some point of N" may make 2 exact tests per point of S (uniform points
+     * make ~0.015, NOTES.md E212); where every ball holds most of N (points on a sphere) the
+     * floating filters pass all of N at each node of the cavity and its boundary, and
+     * triangulating S u N from scratch costs less (D9; GTET_MPI_PATCH_BUDGET=off: no limit,
+     * for the tests) */
+    Q.budget = mx_env_mode("GTET_MPI_PATCH_BUDGET") < 0 ? UINT64_MAX
+                                                         : 2 * (uint64_t)R->ns + 4096;
     uint64_t rng = 0x9e3779b97f4a7c15ull;
     uint32_t t = 0;
     for (size_t i = 0; i < nn && ok == 1; i++) {

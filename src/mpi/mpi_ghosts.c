@@ -173,7 +173,8 @@ gtet_status mx_step_seed(run *R, double layer)
         mpt *sp = mx_malloc(want * sizeof *sp);
         int *so = mx_malloc(want * sizeof *so);
         R->sent_any = mx_calloc((R->m + 63) / 64, sizeof *R->sent_any);
-        if (!sp || !so || !R->sent_any || mx_hs_grow(&R->have, cap) != 0) {
+        R->nsent = mx_calloc((size_t)P, sizeof *R->nsent);
+        if (!sp || !so || !R->sent_any || !R->nsent || mx_hs_grow(&R->have, cap) != 0) {
             free(sp);
             free(so);
             s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
@@ -356,6 +357,9 @@ gtet_status mx_step_rounds(run *R)
 {
     int P = R->c.size;
     gtet_status s = GTET_OK;
+    /* the answers' triangulation, kept while it serves (mx_lift_build) */
+    lift L;
+    memset(&L, 0, sizeof L);
     vec *out = mx_calloc((size_t)P, sizeof *out);
     size_t *rcnt = mx_calloc((size_t)P, sizeof *rcnt);
     if (!out || !rcnt) s = mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
@@ -382,10 +386,13 @@ gtet_status mx_step_rounds(run *R)
         /* answer every query with this tile's conflicting points not sent before */
         const query *qs = rb;
         for (int q = 0; q < P; q++) out[q].rs = sizeof(mpt);
+        /* where the scans would be quadratic, the ball queries are answered from DT(X) (D12) */
+        s = mx_lift_build(R, qs, rt, &L);
         size_t k = 0;
         for (int q = 0; q < P && s == GTET_OK; q++)
             for (size_t i = 0; i < rcnt[q] && s == GTET_OK; i++, k++)
-                s = mx_answer(R, &qs[k], q, &out[q]);
+                s = L.on && qs[k].id[3] != NOID ? mx_answer_lift(R, &L, &qs[k], q, &out[q])
+                                                : mx_answer(R, &qs[k], q, &out[q]);
         free(rb);
         if ((s = mx_agree(&R->c, s)) != GTET_OK) goto done;
         if ((s = exchange_vecs(R, out, sizeof(mpt), &rb, rcnt, &rt)) != GTET_OK) goto done;
@@ -399,6 +406,7 @@ gtet_status mx_step_rounds(run *R)
         if (gadded == 0) break;   /* every queried tet is certified: S is final (D3) */
     }
 done:
+    mx_lift_free(&L);
     if (out)
         for (int q = 0; q < P; q++) free(out[q].p);
     free(out);

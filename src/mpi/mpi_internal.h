@@ -56,6 +56,9 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
 
 double mx_now(void);
 
+/* a test switch from the environment: -1 for "off" or "0", 1 for "on" or "1", else 0 */
+int mx_env_mode(const char *name);
+
 /* gtet_options.input_done for a local triangulation's own copy of its points: user is the
  * address of the double * to free (and set to NULL).  The kernel calls it once it has copied
  * the points (src/api/triangulate.c), so its later arrays can take that block instead of fresh
@@ -117,6 +120,13 @@ typedef struct grid {
                                    outward (a ball's answer skips the cells it misses) */
     float *bb;                  /* per block of GB^3 cells: the union of its cells' cb (a
                                    query's answer skips the blocks it misses, NOTES.md E203) */
+    float *pyr;                 /* the block boxes' pyramid: level 0 the blocks' boxes (bb),
+                                   level l + 1 each node the union of its 2^3 children at
+                                   level l, up to one node (grid_pyramid) */
+    size_t poff[24];            /* level l's boxes start at pyr + poff[l] */
+    int pdim[24][3], nlev;      /* level l's nodes per axis; the number of levels */
+    uint32_t *sat;              /* (g0 + 1)(g1 + 1)(g2 + 1): the cells' point counts summed
+                                   below each corner, for the answers' gate (mpi_lift.c) */
     unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at
                                    it can reach another tile's box (mx_grid_far, D11) */
 } grid;
@@ -151,6 +161,8 @@ typedef struct run {
     hset have;                  /* vertex ids of S's ghosts (S's tile points: s_add) */
     hset sent;                  /* tile index * P + rank: sent to that rank */
     uint64_t *sent_any;         /* a bit per tile index: sent to some rank (mx_sent) */
+    size_t *nsent;              /* per rank: the tile points sent to it (mx_mark_sent); when
+                                   all m were, every answer to it is empty (D12) */
     grid gr;
     gtet_mesh *mesh;            /* the first round's local triangulation DT(S) ... */
     uint32_t *ptv, *ptn;        /* ... or, once patched (mx_patch), DT(S) as 4 vertex ids and */
@@ -242,6 +254,38 @@ gtet_status mx_grid_far(run *R);
  * before (for a hull facet only those near the nearest one: D3), and mark them sent */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
 
+/* a ball's cell range in the tile grid (the whole grid for B->all): every tile point within
+ * the ball lies in the cells lo..hi (mx_answer's scan range) */
+void mx_ball_range(const grid *G, const ball *B, int lo[3], int hi[3]);
+
+/* a round's answers to circumball queries from DT(X), X = the tile and the queries' vertices
+ * (mpi_lift.c, proofs/distributed.md D12) */
+typedef struct lift {
+    int on;                     /* built: answer the ball queries with mx_answer_lift */
+    size_t nx;                  /* X: S's first m points (the tile), then xp */
+    mpt *xp;                    /* the queries' vertices that are not tile points */
+    size_t *adj0;               /* nx + 1: X vertex i's neighbours in DT(X) are */
+    uint32_t *adj;              /*   adj[adj0[i] .. adj0[i + 1] - 1] */
+    uint64_t *mk;               /* vertex id -> X index: keys (NOID empty) ... */
+    uint32_t *mv;               /* ... and values */
+    size_t mcap;
+    uint32_t *stamp, cur;       /* per X vertex: visited by the search numbered cur */
+    uint32_t *queue;            /* the search's conflicting vertices */
+    size_t qcap;
+    uint64_t *work;             /* per asking rank: this round's exact tests for it; past
+                                   LIFT_DUMP_LIMIT m the rest of the tile is sent (D12) */
+    uint32_t (*tets)[4];        /* DT(X)'s tets, X indices ascending, open addressing (row
+                                   [0] == UINT32_MAX empty): a query's tet found here has an
+                                   empty answer */
+    size_t tcap;
+} lift;
+/* decide from the queries qs[0..nq) whether the round's scans would visit more than a fixed
+ * multiple of the tile's points; if so build L (L->on); else L->on = 0.  L (zeroed before the
+ * first round) is kept from the previous round when it holds every vertex of qs's tets */
+gtet_status mx_lift_build(run *R, const query *qs, size_t nq, lift *L);
+gtet_status mx_answer_lift(run *R, lift *L, const query *Q, int to, vec *out);
+void mx_lift_free(lift *L);
+
 void mx_sort4(uint64_t *k);                   /* 4 ids ascending (mpi_ghosts.c) */
 /* the hull facet opposite slot f of local tet tv, in ghost order (mpi_ghosts.c) */
 void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3]);
@@ -262,7 +306,9 @@ static inline int mx_sent(const run *R, size_t i, int to)
 static inline int mx_mark_sent(run *R, size_t i, int to)
 {
     R->sent_any[i >> 6] |= (uint64_t)1 << (i & 63);
-    return mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)R->c.size + (uint64_t)to);
+    int a = mx_hs_add(&R->sent, (uint64_t)i * (uint64_t)R->c.size + (uint64_t)to);
+    R->nsent[to] += a > 0;
+    return a;
 }
 
 /* the current local triangulation, patched or not (nothing: *nt = 0, NULL arrays) */

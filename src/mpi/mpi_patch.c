@@ -373,7 +373,11 @@ gtet_status mx_patch(run *R, size_t n_old, int *done)
     X.wid = mx_malloc((R->ns + 1) * sizeof *X.wid);
     X.ws = mx_malloc((R->ns + 1) * sizeof *X.ws);
     if (!X.cf || !X.wid || !X.ws) goto out;
-    if (mx_find_cavity(&X) != 0) goto out;
+    int fc = mx_find_cavity(&X);
+    if (fc != 0) {
+        ok = fc > 0 ? 0 : -1;   /* over the growth's budget: from scratch */
+        goto out;
+    }
     size_t nc = 0;
     for (size_t t = 0; t < X.nt; t++) nc += X.cf[t] != 0;
     ok = 0;

@@ -21,7 +21,8 @@ typedef struct patch {
 
 /* mark C and H in X->cf: the tets and the hull facets some new point conflicts with (exact
  * predicates), by locating the new points (D10) or, should that fail, by testing every tet;
- * 0, or -1 out of memory */
+ * 0, -1 out of memory, or 1 when the growth would make more than 2 exact tests per
+ * point of S (then the caller triangulates from scratch) */
 int mx_find_cavity(patch *X);
 
 #endif

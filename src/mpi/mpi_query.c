@@ -185,6 +185,8 @@ static float float_out(double x, int dir)
  * cell's points, so a ball that misses it (mx_ball_meets_box, whose distance is no larger
  * than any point's: floating subtraction, squares, sum and sqrt are monotone) misses every one
  * of them by the per-point test too: the skip changes no answer. */
+static gtet_status grid_pyramid(run *R);
+
 static gtet_status cell_boxes(run *R, size_t cells)
 {
     grid *G = &R->gr;
@@ -229,6 +231,49 @@ static gtet_status cell_boxes(run *R, size_t cells)
                     b[3 + k] = c[3 + k] > b[3 + k] ? c[3 + k] : b[3 + k];
                 }
             }
+    return grid_pyramid(R);
+}
+
+/* G->pyr: the block boxes (level 0), then level by level the unions of 2^3 nodes, to a single
+ * node (scan_pyramid); an empty node keeps lo = +inf, hi = -inf */
+static gtet_status grid_pyramid(run *R)
+{
+    grid *G = &R->gr;
+    size_t tot = 0;
+    int d[3] = {G->b[0], G->b[1], G->b[2]}, l = 0;
+    for (;; l++) {
+        G->poff[l] = tot;
+        memcpy(G->pdim[l], d, sizeof d);
+        tot += 6 * (size_t)d[0] * (size_t)d[1] * (size_t)d[2];
+        if (d[0] == 1 && d[1] == 1 && d[2] == 1) break;
+        for (int k = 0; k < 3; k++) d[k] = (d[k] + 1) / 2;
+    }
+    G->nlev = l + 1;
+    G->pyr = mx_malloc((tot + 1) * sizeof *G->pyr);
+    if (!G->pyr) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
+    memcpy(G->pyr, G->bb, 6 * (size_t)G->b[0] * (size_t)G->b[1] * (size_t)G->b[2] * sizeof *G->pyr);
+    for (l = 1; l < G->nlev; l++) {
+        const int *e = G->pdim[l], *c = G->pdim[l - 1];
+        float *up = G->pyr + G->poff[l];
+        const float *dn = G->pyr + G->poff[l - 1];
+        for (size_t i = 0; i < 6 * (size_t)e[0] * (size_t)e[1] * (size_t)e[2]; i += 6)
+            for (int k = 0; k < 3; k++) {
+                up[i + (size_t)k] = INFINITY;
+                up[i + 3 + (size_t)k] = -INFINITY;
+            }
+        for (int z = 0; z < c[2]; z++)
+            for (int y = 0; y < c[1]; y++)
+                for (int x = 0; x < c[0]; x++) {
+                    const float *b = dn + 6 * (((size_t)z * (size_t)c[1] + (size_t)y) *
+                                                   (size_t)c[0] + (size_t)x);
+                    float *u = up + 6 * (((size_t)(z / 2) * (size_t)e[1] + (size_t)(y / 2)) *
+                                             (size_t)e[0] + (size_t)(x / 2));
+                    for (int k = 0; k < 3; k++) {
+                        u[k] = b[k] < u[k] ? b[k] : u[k];
+                        u[3 + k] = b[3 + k] > u[3 + k] ? b[3 + k] : u[3 + k];
+                    }
+                }
+    }
     return GTET_OK;
 }
 
@@ -329,6 +374,21 @@ static void ball_clip(const grid *G, const ball *B, int lo[3], int hi[3])
     }
 }
 
+void mx_ball_range(const grid *G, const ball *B, int lo[3], int hi[3])
+{
+    for (int k = 0; k < 3; k++) {
+        lo[k] = 0;
+        hi[k] = G->g[k] - 1;
+    }
+    if (B->all) return;
+    for (int k = 0; k < 3; k++) {
+        double r = B->r * (1 + 1e-9);
+        lo[k] = cell_of(G, k, B->c[k] - r);
+        hi[k] = cell_of(G, k, B->c[k] + r);
+    }
+    ball_clip(G, B, lo, hi);
+}
+
 /* A hull facet's answer (out's records from n0 on, ids still tile indices): only the points
  * within the layer width of this tile of the nearest one's distance to rank `to`'s box, which
  * are marked sent and get their ids back.  The halfspace beyond a facet of `to`'s local hull
@@ -355,110 +415,157 @@ static gtet_status near_hull(run *R, int to, vec *out, size_t n0)
     return GTET_OK;
 }
 
+/* One query's scan: its ball or halfspace, the cell range, where the answer goes */
+typedef struct scan {
+    const query *Q;
+    ball B;
+    hspace H;
+    int hull, to;
+    int lo[3], hi[3];
+    vec *out;
+} scan;
+
+/* one point of the scan: the floating filter, "sent before", the exact predicate; a conflict
+ * is appended (a hull facet's with its tile index as id, for near_hull) */
+static gtet_status scan_point(run *R, const scan *W, uint32_t j)
+{
+    const query *Q = W->Q;
+    const mpt *p = &R->sp[j];
+    if (p->id == Q->id[0] || p->id == Q->id[1] || p->id == Q->id[2] || p->id == Q->id[3])
+        return GTET_OK;
+    int conflict;
+    /* a point sent to `to` before is not answered whether or not it conflicts: asked after
+     * the floating filter, before the exact predicate */
+    if (W->hull) {
+        /* the block filter's test, point by point (D4) */
+        if (!W->H.all && !hspace_may_reach(&W->H, p->x)) return GTET_OK;
+        if (mx_sent(R, j, W->to)) return GTET_OK;
+        R->c.st->answer_tests++;
+        conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2], p->x) > 0;
+    } else {
+        if (!W->B.all) {
+            double d0 = p->x[0] - W->B.c[0], d1 = p->x[1] - W->B.c[1], d2 = p->x[2] - W->B.c[2];
+            if (sqrt(d0 * d0 + d1 * d1 + d2 * d2) > W->B.r * (1 + 1e-9)) return GTET_OK;
+        }
+        if (mx_sent(R, j, W->to)) return GTET_OK;
+        R->c.st->answer_tests++;
+        conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2], Q->p[3], p->x) > 0;
+    }
+    if (!conflict) return GTET_OK;
+    if (!W->hull && mx_mark_sent(R, j, W->to) < 0)
+        return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    mpt *o = mx_vec_push(W->out);
+    if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    *o = *p;
+    if (W->hull) o->id = j;   /* the tile index until near_hull */
+    return GTET_OK;
+}
+
+/* does the scan's ball or halfspace meet the float box b (lo[3], hi[3])?  (D4: a box that
+ * holds points and is missed holds no point the per-point filters would pass) */
+static int scan_meets(const scan *W, const float *b)
+{
+    if (!W->hull && W->B.all) return 1;
+    double bb[6];
+    for (int k = 0; k < 6; k++) bb[k] = b[k];
+    return W->hull ? hspace_meets_box(&W->H, bb, bb + 3) : mx_ball_meets_box(&W->B, bb);
+}
+
+/* the cells of block (bx, by, bz) in the scan's range, skipped when their points' box is
+ * missed (cell_boxes) */
+static gtet_status scan_block(run *R, const scan *W, int bx, int by, int bz)
+{
+    const grid *G = &R->gr;
+    int c0[3] = {bx * GB, by * GB, bz * GB};
+    for (int z = c0[2]; z < c0[2] + GB && z <= W->hi[2]; z++) {
+        if (z < W->lo[2]) continue;
+        for (int y = c0[1]; y < c0[1] + GB && y <= W->hi[1]; y++) {
+            if (y < W->lo[1]) continue;
+            for (int x = c0[0]; x < c0[0] + GB && x <= W->hi[0]; x++) {
+                if (x < W->lo[0]) continue;
+                size_t ci = ((size_t)z * (size_t)G->g[1] + (size_t)y) * (size_t)G->g[0] + (size_t)x;
+                if (G->start[ci] == G->start[ci + 1] || !scan_meets(W, G->cb + 6 * ci)) continue;
+                for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) {
+                    gtet_status s = scan_point(R, W, j);
+                    if (s != GTET_OK) return s;
+                }
+            }
+        }
+    }
+    return GTET_OK;
+}
+
+/* A halfspace's blocks through the pyramid of block boxes (grid_pyramid): a node whose box the
+ * halfspace misses holds no point the filters pass (the box holds its blocks' points), so
+ * only the blocks along the facet's plane and beyond it are visited -- on a sphere, where
+ * every tile point is on the hull, the sheet beyond a facet is a few blocks, not the grid */
+static gtet_status scan_pyramid(run *R, const scan *W)
+{
+    const grid *G = &R->gr;
+    int stack[3 * 8 * 24 + 8][4], ns = 0;
+    stack[ns][0] = G->nlev - 1;
+    stack[ns][1] = stack[ns][2] = stack[ns][3] = 0;
+    ns++;
+    while (ns > 0) {
+        ns--;
+        int l = stack[ns][0], x = stack[ns][1], y = stack[ns][2], z = stack[ns][3];
+        const int *d = G->pdim[l];
+        const float *b = G->pyr + G->poff[l] +
+                         6 * (((size_t)z * (size_t)d[1] + (size_t)y) * (size_t)d[0] + (size_t)x);
+        if (!(b[0] <= b[3]) || !scan_meets(W, b)) continue;
+        if (l == 0) {
+            gtet_status s = scan_block(R, W, x, y, z);
+            if (s != GTET_OK) return s;
+            continue;
+        }
+        const int *e = G->pdim[l - 1];
+        for (int k = 7; k >= 0; k--) {
+            int cx = 2 * x + (k & 1), cy = 2 * y + (k >> 1 & 1), cz = 2 * z + (k >> 2 & 1);
+            if (cx >= e[0] || cy >= e[1] || cz >= e[2]) continue;
+            stack[ns][0] = l - 1;
+            stack[ns][1] = cx;
+            stack[ns][2] = cy;
+            stack[ns][3] = cz;
+            ns++;
+        }
+    }
+    return GTET_OK;
+}
+
 /* Answer: append to out (mpt records) the tile points in conflict with q that were not sent
  * to rank `to` before; mark them sent. */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
 {
     grid *G = &R->gr;
-    size_t m = R->m;
-    if (m == 0) return GTET_OK;
-    int hull = Q->id[3] == NOID;
+    /* every tile point was sent to `to` before: nothing to answer (6c) */
+    if (R->m == 0 || R->nsent[to] == R->m) return GTET_OK;
+    scan W;
+    W.Q = Q;
+    W.hull = Q->id[3] == NOID;
+    W.to = to;
+    W.out = out;
     size_t n0 = out->n;
-    ball B = {{0, 0, 0}, 0, 1};
-    hspace H = {{0, 0, 0}, {0, 0, 0}, 0, 1};
-    int lo[3] = {0, 0, 0}, hi[3] = {G->g[0] - 1, G->g[1] - 1, G->g[2] - 1};
-    if (hull) {
-        hspace_init(&H, Q->p[0], Q->p[1], Q->p[2]);
-    } else {
-        mx_tet_ball(Q->p[0], Q->p[1], Q->p[2], Q->p[3], &B);
-        if (!B.all) {
-            for (int k = 0; k < 3; k++) {
-                double r = B.r * (1 + 1e-9);
-                lo[k] = cell_of(G, k, B.c[k] - r);
-                hi[k] = cell_of(G, k, B.c[k] + r);
-            }
-            ball_clip(G, &B, lo, hi);
+    if (W.hull) {
+        hspace_init(&W.H, Q->p[0], Q->p[1], Q->p[2]);
+        for (int k = 0; k < 3; k++) {
+            W.lo[k] = 0;
+            W.hi[k] = G->g[k] - 1;
         }
+        gtet_status s = scan_pyramid(R, &W);
+        return s != GTET_OK ? s : near_hull(R, to, out, n0);
     }
-    /* blocks of GB^3 cells first: skipped when their box misses the halfspace or the ball (a
-     * flat tet near the hull has a huge ball whose cell range is the whole tile) */
-    for (int bz = lo[2] / GB; bz <= hi[2] / GB; bz++)
-        for (int by = lo[1] / GB; by <= hi[1] / GB; by++)
-            for (int bx = lo[0] / GB; bx <= hi[0] / GB; bx++) {
-                int c0[3] = {bx * GB, by * GB, bz * GB};
-                /* the block's points' box (cell_boxes): an empty block is skipped, and a ball
-                 * or halfspace that misses the box misses every point in it */
+    mx_tet_ball(Q->p[0], Q->p[1], Q->p[2], Q->p[3], &W.B);
+    mx_ball_range(G, &W.B, W.lo, W.hi);
+    /* blocks of GB^3 cells first: skipped when empty or when the ball misses their points'
+     * box (a flat tet near the hull has a huge ball whose cell range is the whole tile) */
+    for (int bz = W.lo[2] / GB; bz <= W.hi[2] / GB; bz++)
+        for (int by = W.lo[1] / GB; by <= W.hi[1] / GB; by++)
+            for (int bx = W.lo[0] / GB; bx <= W.hi[0] / GB; bx++) {
                 const float *fb = G->bb + 6 * (((size_t)bz * (size_t)G->b[1] + (size_t)by) *
                                                    (size_t)G->b[0] + (size_t)bx);
-                if (!(fb[0] <= fb[3])) continue;
-                if (hull || !B.all) {
-                    double bb[6];   /* lo, hi */
-                    for (int k = 0; k < 6; k++) bb[k] = fb[k];
-                    if (hull ? !hspace_meets_box(&H, bb, bb + 3) : !mx_ball_meets_box(&B, bb))
-                        continue;
-                }
-                for (int z = c0[2]; z < c0[2] + GB && z <= hi[2]; z++) {
-                    if (z < lo[2]) continue;
-                    for (int y = c0[1]; y < c0[1] + GB && y <= hi[1]; y++) {
-                        if (y < lo[1]) continue;
-                        for (int x = c0[0]; x < c0[0] + GB && x <= hi[0]; x++) {
-                            if (x < lo[0]) continue;
-                            size_t ci = ((size_t)z * (size_t)G->g[1] + (size_t)y) *
-                                            (size_t)G->g[0] + (size_t)x;
-                            if ((hull || !B.all) && G->start[ci] < G->start[ci + 1]) {
-                                double cb[6];   /* the cell's points' box (cell_boxes) */
-                                for (int k = 0; k < 6; k++) cb[k] = G->cb[6 * ci + (size_t)k];
-                                if (hull ? !hspace_meets_box(&H, cb, cb + 3)
-                                         : !mx_ball_meets_box(&B, cb))
-                                    continue;
-                            }
-                            for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) {
-                                const mpt *p = &R->sp[j];
-                                if (p->id == Q->id[0] || p->id == Q->id[1] || p->id == Q->id[2] ||
-                                    p->id == Q->id[3])
-                                    continue;
-                                int conflict;
-                                /* a point sent to `to` before is not answered whether or not it
-                                 * conflicts: asked after the floating filter, before the exact
-                                 * predicate */
-                                if (hull) {
-                                    /* the block filter's test, point by point (D4) */
-                                    if (!H.all && !hspace_may_reach(&H, p->x)) continue;
-                                    if (mx_sent(R, j, to)) continue;
-                                    conflict = gtet_ghost_conflict(Q->p[0], Q->p[1], Q->p[2],
-                                                                   p->x) > 0;
-                                } else {
-                                    if (!B.all) {
-                                        double d0 = p->x[0] - B.c[0], d1 = p->x[1] - B.c[1],
-                                               d2 = p->x[2] - B.c[2];
-                                        if (sqrt(d0 * d0 + d1 * d1 + d2 * d2) >
-                                            B.r * (1 + 1e-9))
-                                            continue;
-                                    }
-                                    if (mx_sent(R, j, to)) continue;
-                                    conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2],
-                                                                 Q->p[3], p->x) > 0;
-                                }
-                                if (!conflict) continue;
-                                if (hull) {   /* kept or dropped below (near_hull) */
-                                    mpt *o = mx_vec_push(out);
-                                    if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
-                                                           "out of memory");
-                                    *o = *p;
-                                    o->id = j;   /* the tile index until near_hull */
-                                    continue;
-                                }
-                                if (mx_mark_sent(R, j, to) < 0)
-                                    return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
-                                                   "out of memory");
-                                mpt *o = mx_vec_push(out);
-                                if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY,
-                                                       "out of memory");
-                                *o = *p;
-                            }
-                        }
-                    }
-                }
+                if (!(fb[0] <= fb[3]) || !scan_meets(&W, fb)) continue;
+                gtet_status s = scan_block(R, &W, bx, by, bz);
+                if (s != GTET_OK) return s;
             }
-    return hull ? near_hull(R, to, out, n0) : GTET_OK;
+    return GTET_OK;
 }

@@ -62,10 +62,13 @@ static void run_free(run *R)
     free(R->have.k);
     free(R->sent.k);
     free(R->sent_any);
+    free(R->nsent);
     free(R->gr.start);
     free(R->gr.cb);
     free(R->gr.bb);
     free(R->gr.far);
+    free(R->gr.sat);
+    free(R->gr.pyr);
     free(R->prev);
     gtet_mesh_free(&R->mesh);
     free(R->ptv);

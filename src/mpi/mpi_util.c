@@ -252,3 +252,12 @@ double mx_box_dist(const double *box, const double *x)
     }
     return sqrt(d2);
 }
+
+int mx_env_mode(const char *name)
+{
+    const char *e = getenv(name);
+    if (!e) return 0;
+    if (strcmp(e, "off") == 0 || strcmp(e, "0") == 0) return -1;
+    if (strcmp(e, "on") == 0 || strcmp(e, "1") == 0) return 1;
+    return 0;
+}

@@ -85,9 +85,13 @@ with open('cluster.xyz', 'w') as f:
   # neighbour links, which the gathered mesh's comparison does not see (mpi_patch.c moves the
   # kept tets into the cavity's slots and redirects their neighbours' links, NOTES E80)
   # (and the hull facets counted, mpi_output.c match_facets: gigatet's count)
+  # (on the sphere every ball holds most of the new points and the growth would give way to a
+  # new triangulation past its budget, D10: GTET_MPI_PATCH_BUDGET=off keeps the patch there;
+  # uniform points and the cluster must stay under the budget)
   for s in uniform cluster sphere; do for np in 2 4; do
     "$cli" triangulate "$s.xyz" --stats | tail -n 1 > ref_stats.json
-    if run "$np" "$mpicli" triangulate "$s.xyz" -q --stats --check > stats.json &&
+    budget=; [ "$s" = sphere ] && budget=off
+    if GTET_MPI_PATCH_BUDGET=$budget run "$np" -x GTET_MPI_PATCH_BUDGET "$mpicli" triangulate "$s.xyz" -q --stats --check > stats.json &&
        python3 -c "
 import json, sys
 d = json.load(open('stats.json'))
@@ -97,6 +101,56 @@ sys.exit(not (d['rounds'] >= 2 and d['hull_facets'] == hull and
       ok "$s np=$np: later rounds patched, hull facets counted"
     else bad "$s np=$np: rounds/rebuilds/scans/hull facets: $(cat stats.json) $(cat ref_stats.json)"; fi
   done; done
+  # D12: a round's tet queries answered from DT(tile + the queries' vertices) give the same
+  # answers as the grid scans: GTET_MPI_LIFT=on (always) and =off (never) must give the same
+  # mesh and the same ghost points on every rank, on sets with every insphere degenerate (grid,
+  # co-spherical), on a sphere and on uniform points (GTET_MPI_DUMP=off: no rank sends the rest
+  # of its tile after many tests, which the co-spherical set does at np 3 in the runs above)
+  g() { python3 -c "import json, sys; print([r['ghost_points'] for r in json.loads(sys.stdin.read().splitlines()[-1])['per_rank']])"; }
+  for s in uniform grid cosph sphere; do for np in 2 3; do
+    a=$(GTET_MPI_LIFT=off run "$np" -x GTET_MPI_LIFT "$mpicli" triangulate "$s.xyz" -q --stats | g)
+    if GTET_MPI_LIFT=on GTET_MPI_DUMP=off run "$np" -x GTET_MPI_LIFT -x GTET_MPI_DUMP \
+         "$mpicli" triangulate "$s.xyz" -q --stats \
+         -o "d_$s.vtu" > lift.json && "$cli" diff "ref_$s.vtu" "d_$s.vtu" -q &&
+       [ -n "$a" ] && [ "$(g < lift.json)" = "$a" ]; then ok "$s np=$np: answers from DT(X) = scans ($a)"
+    else bad "$s np=$np: GTET_MPI_LIFT=on: $(cat lift.json), ghosts with off: $a"; fi
+  done; done
+  # the sphere's answers are near-linear: the exact tests they make (answer_tests) stay under
+  # 100 a point where the scans made ~n/2 a point (20k points, np 2: 4.3e8 tests, 44 s before
+  # D12), and the same counter sees the scans' quadratic cost with GTET_MPI_LIFT=off (4000
+  # points: over 100 a point)
+  "$cli" generate sphere 20000 --seed 1 -o sph20k.bin -q; ref sph20k sph20k.bin
+  "$cli" generate sphere 4000 --seed 2 -o sph4k.bin -q; ref sph4k sph4k.bin
+  t() { python3 -c "import json, sys; print(max(r['answer_tests'] for r in json.loads(sys.stdin.read().splitlines()[-1])['per_rank']))"; }
+  for np in 2 4; do
+    if run "$np" "$mpicli" triangulate sph20k.bin -q --stats -o d_sph20k.vtu > st.json &&
+       "$cli" diff ref_sph20k.vtu d_sph20k.vtu -q && [ "$(t < st.json)" -le 2000000 ]; then
+      ok "sphere 20k np=$np: identical, $(t < st.json) exact tests in a rank's answers"
+    else bad "sphere 20k np=$np: $(cat st.json)"; fi
+  done
+  a=$(run 2 "$mpicli" triangulate sph4k.bin -q --stats | t)
+  b=$(GTET_MPI_LIFT=off run 2 -x GTET_MPI_LIFT "$mpicli" triangulate sph4k.bin -q --stats | t)
+  if [ -n "$a" ] && [ -n "$b" ] && [ "$a" -le 400000 ] && [ "$b" -gt 400000 ]; then
+    ok "sphere 4k np=2: $a exact tests in a rank's answers ($b with the scans)"
+  else bad "sphere 4k np=2: $a exact tests in a rank's answers, $b with the scans (bound 400000)"; fi
+  # a surface sample (a torus, 6000 points): the tets' conflict sets from DT(X) are large, and
+  # a rank whose searches for an asker go over their limit sends it the rest of its tile (D12's
+  # complete answer; it does at np 2 and 4): identical meshes, and a rank's answers stay under
+  # 100 exact tests a point
+  python3 -c "
+import math, random
+r = random.Random(5)
+with open('torus.xyz', 'w') as f:
+    for i in range(6000):
+        u, v = 2 * math.pi * r.random(), 2 * math.pi * r.random()
+        f.write('%.17g %.17g %.17g\\n' % ((1 + 0.3 * math.cos(v)) * math.cos(u), (1 + 0.3 * math.cos(v)) * math.sin(u), 0.3 * math.sin(v)))"
+  ref torus torus.xyz
+  for np in 2 4; do
+    if run "$np" "$mpicli" triangulate torus.xyz -q --stats -o d_torus.vtu > st.json &&
+       "$cli" diff ref_torus.vtu d_torus.vtu -q && [ "$(t < st.json)" -le 600000 ]; then
+      ok "torus np=$np: identical, $(t < st.json) exact tests in a rank's answers"
+    else bad "torus np=$np: $(cat st.json)"; fi
+  done
   # a thin slab (3000 points, z in [0, 0.02]): here the tets a patched round makes have
   # circumballs reaching points of other tiles that no earlier query fetched, so the mesh is
   # right only if a later round queries its new tets (proofs/distributed.md 6b): with no
@@ -209,6 +263,12 @@ open('nan.bin','wb').write(b)"
   if ls nan_out* 2>/dev/null; then bad "partial output after NaN"; else ok "no output after NaN"; fi
   for k in 0 3 9 20 40; do
     GTET_MPI_FAIL_ALLOC="1:$k" each_rank_code 3 4 "allocation $k fails on rank 1" -- "$mpicli" triangulate u.bin -q
+  done
+  # a sphere's rounds answer from DT(tile + the queries' vertices) (D12): rank 1's allocations
+  # 79-90 are that triangulation's (its map, points, adjacency, tets, the searches' queue)
+  "$cli" generate sphere 3000 --seed 4 -o sph3k.bin -q
+  for k in 70 76 79 80 82 84 86 88 90 96; do
+    GTET_MPI_FAIL_ALLOC="1:$k" each_rank_code 2 4 "sphere: allocation $k fails on rank 1" -- "$mpicli" triangulate sph3k.bin -q
   done
   GTET_MPI_FAIL_ALLOC="2:25" each_rank_code 4 4 "allocation fails on rank 2 (-o)" -- "$mpicli" triangulate u.bin -o oom.vtu -q
   if ls oom* 2>/dev/null; then bad "partial output after OOM"; else ok "no output after OOM"; fi
