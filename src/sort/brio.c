@@ -158,31 +158,63 @@ static void rounds_of(const uint64_t *h, size_t n, const uint64_t *thr, int roun
     }
 }
 
-/* Refinement of a run of n > BRIO_REFINE_MIN points with equal keys (ids in hash order on
- * entry): stable sort by the Moore key on the run's own box with sort_brio_bits(n) bits, then
- * the same for every sub-run of equal keys longer than BRIO_REFINE_MIN, down to depth
- * BRIO_REFINE_DEPTH.  kscr, tk, ti: scratch of n entries.  A run whose points all coincide is
- * left in hash order (nothing to sort).  The run's box shrinks by 2^bits >= 32 per axis at
- * each level (a sub-run lies in one cell of its parent's box), so the depth bounds both the
- * recursion and the work: at most BRIO_REFINE_DEPTH keys and sorts per point. */
+/* ids[0..n) in hash order (the definition's tie order): hk and kscr, ti scratch of n entries.
+ * Hashes are distinct (a bijection of the id), so the order is a function of the set. */
+static void hash_order(uint32_t *ids, size_t n, uint64_t salt, uint64_t *hk, uint64_t *kscr,
+                       uint32_t *ti, int threads)
+{
+    if (n <= BRIO_REFINE_MIN) {  /* a leaf: insertion sort */
+        for (size_t u = 0; u < n; u++) {
+            const uint64_t h = sort_hash64((uint64_t)ids[u] + salt);
+            const uint32_t id = ids[u];
+            size_t v = u;
+            for (; v > 0 && hk[v - 1] > h; v--) {
+                hk[v] = hk[v - 1];
+                ids[v] = ids[v - 1];
+            }
+            hk[v] = h;
+            ids[v] = id;
+        }
+        return;
+    }
+    for (size_t u = 0; u < n; u++) hk[u] = sort_hash64((uint64_t)ids[u] + salt);
+    sort_radix_pairs(hk, ids, n, 64, kscr, ti, threads);
+}
+
+/* Refinement of a run of n > BRIO_REFINE_MIN points with equal keys: stable sort by the Moore
+ * key on the run's own box with sort_brio_bits(n) bits, then the same for every sub-run of
+ * equal keys longer than BRIO_REFINE_MIN, down to depth BRIO_REFINE_DEPTH; every run of equal
+ * keys that is not refined further (a leaf, a run at the last depth, a run whose points all
+ * coincide) is then put in hash order.  This is the order sort.h defines (the run in hash
+ * order, then stable sorts by the finer keys: ties in hash order), reached without sorting the
+ * whole run by hash first: the run's ids come in the order of the sort before, close to input
+ * order, so the keys' reads of their coordinates go forward through memory, where in hash
+ * order each was a cache miss (NOTES.md E176).  kscr, tk, ti: scratch of n entries.  The
+ * run's box shrinks by 2^bits >= 32 per axis at each level (a sub-run lies in one cell of its
+ * parent's box), so the depth bounds both the recursion and the work: at most
+ * BRIO_REFINE_DEPTH keys and sorts per point. */
 static void refine_run(const double *xyz, size_t stride, uint32_t *ids, size_t n, int depth,
-                       uint64_t *kscr, uint64_t *tk, uint32_t *ti, int threads)
+                       uint64_t *kscr, uint64_t *tk, uint32_t *ti, uint64_t salt, int threads)
 {
     double box[6];
     sort_bbox(xyz, stride, ids, n, box, threads);
-    if (box[0] == box[3] && box[1] == box[4] && box[2] == box[5])
+    if (box[0] == box[3] && box[1] == box[4] && box[2] == box[5]) {
+        hash_order(ids, n, salt, tk, kscr, ti, threads);
         return;
+    }
     const int bits = sort_brio_bits(n);
     sort_moore_keys_ids(xyz, stride, ids, n, box, bits, kscr, threads);
     sort_radix_pairs(kscr, ids, n, 3 * bits, tk, ti, threads);
-    if (depth >= BRIO_REFINE_DEPTH)
-        return;
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
         while (j < n && kscr[j] == kscr[i])
             j++;
-        if (j - i > BRIO_REFINE_MIN)
-            refine_run(xyz, stride, ids + i, j - i, depth + 1, kscr + i, tk + i, ti + i, threads);
+        /* kscr[i..j) is not read again: scratch for the sub-run from here */
+        if (j - i > BRIO_REFINE_MIN && depth < BRIO_REFINE_DEPTH)
+            refine_run(xyz, stride, ids + i, j - i, depth + 1, kscr + i, tk + i, ti + i, salt,
+                       threads);
+        else if (j - i > 1)
+            hash_order(ids + i, j - i, salt, tk + i, kscr + i, ti + i, threads);
         i = j;
     }
 }
@@ -215,12 +247,12 @@ static void order_runs(const double *xyz, size_t stride, uint32_t *ids, size_t n
             crowd = (double)(j - i) / (double)rsize;
         if (j - i > 1) {
             const uint64_t run_key = keys[i];
-            for (size_t u = i; u < j; u++)
-                tk[u] = sort_hash64((uint64_t)ids[u] + salt);
-            sort_radix_pairs(tk + i, ids + i, j - i, 64, keys + i, ti + i, threads);
-            if (j - i > BRIO_REFINE_MIN) {
-                refine_run(xyz, stride, ids + i, j - i, 1, keys + i, tk + i, ti + i, threads);
+            if (j - i > BRIO_REFINE_MIN) {  /* ends in hash order within its finer keys */
+                refine_run(xyz, stride, ids + i, j - i, 1, keys + i, tk + i, ti + i, salt,
+                           threads);
                 refined += j - i;
+            } else {
+                hash_order(ids + i, j - i, salt, tk + i, keys + i, ti + i, threads);
             }
             for (size_t u = i; u < j; u++)
                 keys[u] = run_key;
