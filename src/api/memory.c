@@ -18,8 +18,8 @@
  *           the sorted copy exists, NOTES.md E14; below it the result's 28), order 4, the sorted copy sv 24, round ids 4, vloc 1, and the working mesh:
  *           tv + tn = 32 bytes per tet slot, MEM_SLOTS_TOUCHED slots per point touched (the
  *           pages RSS counts) of the capacity build.c reserves; with threads, colour 1, keys
- *           8, shifted keys 8, and the pending keys pk 8 + tk 8 + ti 4 of the last BRIO round
- *           (5/6 of the points: the rounds grow by 6, brio.c brio_rounds)
+ *           8, shifted keys 8, hints 4, and the pending keys pk 8 + tk 8 + ti 4 of the last
+ *           BRIO round (5/6 of the points: the rounds grow by 6, brio.c brio_rounds)
  *   finish  (build.c kbuild_finish: the parallel state and vloc freed, finalize.c compacts in
  *           place and shrinks to the finite tets, then restore_vertices allocates the result's
  *           vertices again while sv still exists): result 28, order 4, sv 24 and 32 bytes per
@@ -76,12 +76,13 @@
 #define MEM_PT_SORT 21        /* brio.c: keys 8, radix scratch tk 8 + ti 4, round 1 */
 #define MEM_PT_KERNEL 29      /* build.c: sv 24, ids 4; insert.c: vloc 1 */
 #define MEM_PT_SORTED 24      /* build.c: sv alone (the finish phase) */
-/* parallel.c allocates colour 1, keys 8, skeys 8 per point and pk 8 + tk 8 + ti 4 per pending
- * point of the last round (5/6 of them): 33.7 mapped; measured touched, two threads against
- * one: 17 (uniform, grid, sphere) to 26 (cauchy: the keys on the tight box) per point; in
- * tenths */
-#define MEM_PT_PARALLEL_X10 280
-#define MEM_PT_PARALLEL_MAPPED_X10 337
+/* parallel.c allocates colour 1, keys 8, skeys 8, the deferred points' hints 4 per point and
+ * pk 8 + tk 8 + ti 4 per pending point of the last round (5/6 of them): 37.7 mapped; measured
+ * touched, two threads against one: 17 (uniform, grid, sphere) to 26 (cauchy: the keys on the
+ * tight box) per point before the hints (E177: written for the deferred points, a few in
+ * each page); in tenths */
+#define MEM_PT_PARALLEL_X10 320
+#define MEM_PT_PARALLEL_MAPPED_X10 377
 /* the checker (src/check), measured (uniform 1M: peak RSS 694 MB with --check, 304 MB
  * without): per finite tet and per point beyond the result */
 #define MEM_CHECK_PER_TET 56

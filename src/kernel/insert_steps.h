@@ -461,8 +461,13 @@ static inline __attribute__((always_inline)) gtet_status km_insert_t(kctx *c, ui
     int foreign = 0;
     const int outside = km_is_ghost(c->m, t0);  /* p beyond a hull facet (the walk's ghost) */
     s = dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred, semi_first);
-    if (s != GTET_OK || *deferred) return s;
+    if (s != GTET_OK) return s;
+    if (*deferred) {
+        c->defer_hint = t0;  /* in conflict with p: next to it (rolled back, live) */
+        return s;
+    }
     s = fill(c, ncav, nb, foreign, deferred);
+    if (*deferred) c->defer_hint = t0;
     if (__builtin_expect(outside, 0) && s == GTET_OK && !*deferred) remember_ghost(c, nb);
     return s;
 }

@@ -99,6 +99,10 @@ typedef struct kctx {
     int out_of_room;    /* a parallel insertion was deferred for lack of slots */
     size_t blk_next, blk_end;
     uint64_t conflicts; /* insertions rolled back on a colour conflict */
+    uint32_t defer_hint; /* a deferred insertion's first cavity tet (in conflict with its
+                            point), or UINT32_MAX (the walk met another thread's tet first: its
+                            stop can be far from the point): the point's next pass may start
+                            its walk there (parallel.c, NOTES.md E177) */
     /* the insphere filter's order (conflict.h km_filter_order): semi_first set, the
      * semi-static bound first, else the static test first; a sample of static-first
      * insertions (sampling set) counts the calls the static test leaves undecided */

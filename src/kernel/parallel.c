@@ -122,6 +122,10 @@ gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys,
         P->keys = base_alloc_big((m->nv ? m->nv : 1) * sizeof *P->keys);
     }
     P->skeys = base_alloc_big((m->nv ? m->nv : 1) * sizeof *P->skeys);
+    if (threads > 1) {  /* untouched until a point is deferred (the memory guard counts it) */
+        P->hint = base_alloc_big((m->nv ? m->nv : 1) * sizeof *P->hint);
+        if (!P->hint) return GTET_ERR_OUT_OF_MEMORY;
+    }
     const size_t nth = (size_t)(threads < 1 ? 1 : threads > BASE_MAX_THREADS ? BASE_MAX_THREADS : threads);
     P->runs.cap = RUNS_PER_SLICE;
     P->runs.at = malloc(nth * RUNS_PER_SLICE * sizeof *P->runs.at);
@@ -141,8 +145,10 @@ void kpar_free(kpar *P)
     free(P->ti);
     free(P->runs.at);
     free(P->run_tet);
+    free(P->hint);
     P->runs.at = NULL;
     P->run_tet = NULL;
+    P->hint = NULL;
     P->colour = NULL;
     P->keys = NULL;
     P->skeys = NULL;
@@ -316,8 +322,15 @@ static void pass_error(int *status, gtet_status s)
 /* Thread c's slice pts[b..e) of a pass, inside the parallel region: its deferred points are
  * moved to pts[b..b+*nd) in order.  A thread whose insertions almost all fail stops trying
  * (GIVE_UP); so does every thread once one has failed (the shared *status, read atomically). */
+static inline double dist2(const double *a, const double *b)
+{
+    const double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+    return x * x + y * y + z * z;
+}
+
 static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_start,
-                         const kpar_restarts *R, int *status, size_t *nd_out, size_t *tried_out)
+                         const kpar_restarts *R, uint32_t *hint, int use_hints, int *status,
+                         size_t *nd_out, size_t *tried_out)
 {
     const kmesh *m = c->m;
     const uint32_t *ck = R->ck;
@@ -349,14 +362,33 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
             const uint32_t t = R->run_tet[next_run++];
             if (t != UINT32_MAX && !km_dead(m, t)) c->last = t;
         }
+        if (use_hints && have_start) {
+            /* the tet this point's cavity started from in the last pass (E177): checked before
+             * the barrier to be live and this thread's (kpar_check_hints, O4), and since then
+             * only this thread has written it (O2), so a live one is still a tet to start
+             * from; taken when its first vertex is nearer the point than c->last's (its slot
+             * may hold another tet by now; c->last is this thread's too: a start, a restart
+             * or a tet its insertions made) */
+            const uint32_t t = hint[pts[i]];
+            if (t != UINT32_MAX && !km_dead(m, t) &&
+                dist2(km_pt(m, pts[i]), km_pt(m, m->tv[4 * (size_t)t] & ~KM_DEAD)) <
+                    dist2(km_pt(m, pts[i]), km_pt(m, m->tv[4 * (size_t)c->last] & ~KM_DEAD)))
+                c->last = t;
+        }
+        c->defer_hint = UINT32_MAX;
+        int tried_now = 0;
         if (have_start && !failed && !c->out_of_room && !give_up) {
             s = km_insert(c, pts[i], &deferred);
             stale = deferred;
             tried++;
+            tried_now = 1;
             give_up = tried >= probe && (tried - nd - deferred) * GIVE_UP_RATE < tried;
         }
         if (s != GTET_OK) pass_error(status, s);
-        if (deferred || s != GTET_OK) pts[b + nd++] = pts[i];
+        if (deferred || s != GTET_OK) {
+            if (hint) hint[pts[i]] = tried_now && s == GTET_OK ? c->defer_hint : UINT32_MAX;
+            pts[b + nd++] = pts[i];
+        }
     }
     *nd_out = nd;
     *tried_out = tried;
@@ -374,6 +406,9 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
     int status = GTET_OK;  /* the first error of any thread (a gtet_status) */
     size_t ndef[256], ntried[256];
     int room = 0;
+    /* the pending points of a round's later passes were all deferred or left in the pass
+     * before, which wrote their hints; a round's first pass has none */
+    const int use_hints = P->hint != NULL && pass > 0;
 #pragma omp parallel num_threads(nth)
     {
         int tid = omp_get_thread_num();
@@ -389,9 +424,10 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
                       .nck = kpar_checkpoints(end[tid] - begin[tid])};
         kpar_find_checkpoints(c, pts + begin[tid], end[tid] - begin[tid], R.nck, R.ck);
         kpar_find_runs(c, pts + begin[tid], end[tid] - begin[tid], &R);
+        if (use_hints) kpar_check_hints(c, pts + begin[tid], end[tid] - begin[tid], P->hint);
 #pragma omp barrier
-        insert_slice(c, pts, begin[tid], end[tid], have_start, &R, &status, &ndef[tid],
-                     &ntried[tid]);
+        insert_slice(c, pts, begin[tid], end[tid], have_start, &R, P->hint, use_hints, &status,
+                     &ndef[tid], &ntried[tid]);
         gtet_status fs = km_flush_block(c);
         if (fs != GTET_OK) pass_error(&status, fs);
         if (c->out_of_room) {

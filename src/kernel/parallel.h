@@ -25,6 +25,9 @@ typedef struct kpar {
     kpar_runs runs;     /* a slab pass's run starts per slice (slabs.h, NOTES.md E100); n[k]
                          * 0 in a pass on Moore slices */
     uint32_t *run_tet;  /* per run start: a tet of the slice's thread located before the pass */
+    uint32_t *hint;     /* per vertex, with threads: where a deferred point's next walk starts
+                         * (kctx.defer_hint), UINT32_MAX for none; written for a round's
+                         * pending points only, read from its second pass on (E177) */
     uint64_t *pk, *tk;  /* pending points' keys and radix scratch */
     uint32_t *ti;
     size_t cap_pending;

@@ -106,3 +106,16 @@ void kpar_find_runs(kctx *c, const uint32_t *pts, size_t np, kpar_restarts *R)
     c->last = last;
 }
 
+/* The hints deferred points left in the pass before (kctx.defer_hint): a tet near the point
+ * that the walk reached or the cavity started from.  Since then the tet may have died, its
+ * slot may hold another tet, and the colours have changed: kept only where it is live and this
+ * thread's now.  Read-only on the mesh, before the barrier (O4). */
+void kpar_check_hints(kctx *c, const uint32_t *pts, size_t np, uint32_t *hint)
+{
+    const kmesh *m = c->m;
+    for (size_t i = 0; i < np; i++) {
+        const uint32_t t = hint[pts[i]];
+        if (t != UINT32_MAX && (t >= m->nt || km_dead(m, t) || !km_owned(c, t)))
+            hint[pts[i]] = UINT32_MAX;
+    }
+}

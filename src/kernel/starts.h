@@ -33,4 +33,8 @@ void kpar_find_checkpoints(kctx *c, const uint32_t *pts, size_t np, int nck, uin
 /* R->run_tet[0..R->nruns): a tet of this thread for each run start of a slab pass (E100). */
 void kpar_find_runs(kctx *c, const uint32_t *pts, size_t np, kpar_restarts *R);
 
+/* hint[v] for the slice's points v = pts[0..np): kept where it is a live tet of this thread,
+ * else UINT32_MAX (E177); the slice's points are this thread's, so it alone writes them. */
+void kpar_check_hints(kctx *c, const uint32_t *pts, size_t np, uint32_t *hint);
+
 #endif
