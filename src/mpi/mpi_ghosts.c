@@ -64,17 +64,11 @@ static gtet_status triangulate_local(run *R)
         double *xyz = mx_malloc(3 * R->ns * sizeof *xyz);
         if (!xyz) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
         for (size_t i = 0; i < R->ns; i++) memcpy(xyz + 3 * i, R->sp[i].x, 3 * sizeof(double));
+        /* the arrays with room for the output's 64-bit rows (E130); S holds distinct points
+         * (one per vertex id: the duplicate step, D1), so the kernel's own duplicate pass is
+         * skipped */
         gtet_error e;
-        memset(&e, 0, sizeof e);
-        gtet_options o = R->lopt;
-        o.error = &e;
-        o.input_done = mx_free_input;
-        o.input_done_user = &xyz;
-        /* the arrays with room for the output's 64-bit rows (src/mesh/mesh.h, E130); S holds
-         * distinct points (one per vertex id: the duplicate step, D1), so the kernel's own
-         * duplicate pass is skipped */
-        gtet_status s = gtet_triangulate_wide_distinct(xyz, R->ns, &o, &R->mesh);
-        free(xyz);
+        gtet_status s = mx_triangulate_own(&R->lopt, xyz, R->ns, &R->mesh, &e);
         if (s == GTET_ERR_DEGENERATE_INPUT && attempt == 0) {
             /* the tile with its ghosts is flat or tiny: add the global simplex (D5) */
             for (int k = 0; k < 4; k++)

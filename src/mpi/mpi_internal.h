@@ -65,6 +65,13 @@ int mx_env_mode(const char *name);
  * memory (NOTES.md Q14, E122); the caller frees the pointer after the run too (NULL-safe). */
 void mx_free_input(void *user);
 
+/* A local triangulation of n distinct points (the kernel's duplicate pass skipped; arrays with
+ * room for the output's 64-bit rows: src/mesh/mesh.h gtet_triangulate_wide_distinct) with the
+ * rank's options lopt, errors in *e.  xyz is the run's own copy: freed here, as soon as the
+ * kernel has copied it (mx_free_input). */
+gtet_status mx_triangulate_own(const gtet_options *lopt, double *xyz, size_t n, gtet_mesh **out,
+                               gtet_error *e);
+
 /* MPI_Wait on rq, sleeping between tests once it has waited ~20 us (mpi_util.c) */
 void mx_wait(MPI_Request *rq);
 

@@ -239,14 +239,8 @@ static gtet_status lift_triangulate(run *R, lift *L, int *ok)
     if (!xyz) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (answers' triangulation)");
     for (uint32_t i = 0; i < nx; i++) memcpy(xyz + 3 * i, lift_point(R, L, i), 3 * sizeof(double));
     gtet_error e;
-    memset(&e, 0, sizeof e);
-    gtet_options o = R->lopt;
-    o.error = &e;
-    o.input_done = mx_free_input;
-    o.input_done_user = &xyz;
     gtet_mesh *M = NULL;
-    gtet_status s = gtet_triangulate_wide_distinct(xyz, nx, &o, &M);
-    free(xyz);
+    gtet_status s = mx_triangulate_own(&R->lopt, xyz, nx, &M, &e);
     if (s == GTET_ERR_DEGENERATE_INPUT) return GTET_OK;
     if (s != GTET_OK)
         return mx_fail(&R->c, s, "rank %d: the answers' triangulation of %zu points: %s",

@@ -13,6 +13,7 @@
 #include <time.h>
 
 #include "base/base.h"
+#include "mesh/mesh.h"
 #include "mpi/mpi_internal.h"
 
 static long fail_countdown = -1;
@@ -62,6 +63,19 @@ void mx_free_input(void *user)
     double **p = user;
     free(*p);
     *p = NULL;
+}
+
+gtet_status mx_triangulate_own(const gtet_options *lopt, double *xyz, size_t n, gtet_mesh **out,
+                               gtet_error *e)
+{
+    memset(e, 0, sizeof *e);
+    gtet_options o = *lopt;
+    o.error = e;
+    o.input_done = mx_free_input;
+    o.input_done_user = &xyz;
+    gtet_status s = gtet_triangulate_wide_distinct(xyz, n, &o, out);
+    free(xyz);  /* NULL once the kernel has called input_done */
+    return s;
 }
 
 double mx_now(void)
