@@ -6,8 +6,12 @@
  * consecutive from 0 to np, pts is a permutation of the input that keeps the input order within
  * each slice, every point of slice k has kpar_slab_of(its coordinate on the chosen axis) == k
  * (else a thread would insert a point of another colour: a data race, C4), each slice holds at
- * least np / (2T) points (random coordinates always allow that; 8 distinct values may not), the cuts are the coordinates of ranks np k / T, and the axis is the
- * one whose 1/4 .. 3/4 quantiles lie farthest apart.  When no balanced slabs exist (equal
+ * least np / (2T) points (random coordinates always allow that; 8 distinct values may not),
+ * the cuts are the coordinates of ranks np k / T, and the axis is the one where the points
+ * crowd least at the cuts (NOTES.md E178): a box stretched on one axis is cut across it, and
+ * so is a box stretched more with a sheet of points at that axis's median, which is then cut
+ * on another axis; where every axis has equal coordinates at a cut, the widest 1/4 .. 3/4
+ * quantile spread wins.  When no balanced slabs exist (equal
  * coordinates) it returns 0 and leaves pts as it was.  kpar_select returns the element of the
  * asked rank of the ascending order, for any input order and any duplicates.
  *
@@ -213,6 +217,42 @@ static void test_cuts_on_a_given_axis_are_its_ranks(void)
     free(pts);
 }
 
+/* The retry's axis (E178): x is stretched 6x, so its 1/4 .. 3/4 spread is the widest with or
+ * without a sheet of 40% of the points at x = 0 (+- 1e-6), the median; with the sheet the cut
+ * on x would run through it (with 3 threads both cuts would: the sheet holds the ranks from
+ * 3/10 to 7/10), and the rule takes another axis.  With 7 distinct coordinates on every axis
+ * (every window at a cut has width 0) the widest spread decides. */
+static void test_the_axis_avoids_a_crowd_at_the_cut(void)
+{
+    enum { N = 20000 };
+    tu_rng r = {123};
+    double *v = malloc(3 * N * sizeof *v), *scratch = malloc(N * sizeof *scratch);
+    uint32_t *pts = malloc(N * sizeof *pts);
+    for (size_t i = 0; i < N; i++) pts[i] = (uint32_t)i;
+    for (int sheet = 0; sheet < 2; sheet++) {
+        for (size_t i = 0; i < N; i++) {
+            v[3 * i] = 6 * (tu_uniform(&r) - 0.5);
+            if (sheet && tu_below(&r, 5) < 2) v[3 * i] = 1e-6 * (tu_uniform(&r) - 0.5);
+            v[3 * i + 1] = tu_uniform(&r) - 0.5;
+            v[3 * i + 2] = tu_uniform(&r) - 0.5;
+        }
+        for (int nth = 2; nth <= 3; nth++) {
+            kpar_slab_cuts s;
+            TEST_CHECK(kpar_slab_cuts_on(v, pts, N, nth, -1, scratch, &s), "refused");
+            if (sheet) TEST_CHECK(s.axis != 0, "%d threads: cut across the sheet at the median", nth);
+            else TEST_CHECK(s.axis == 0, "%d threads: axis %d, not the stretched x", nth, s.axis);
+        }
+    }
+    for (size_t i = 0; i < N; i++)  /* 7 values on each axis, y's 3x apart */
+        for (int d = 0; d < 3; d++) v[3 * i + d] = (double)tu_below(&r, 7) * (d == 1 ? 3 : 1);
+    kpar_slab_cuts s;
+    TEST_CHECK(kpar_slab_cuts_on(v, pts, N, 2, -1, scratch, &s), "7 values refused");
+    TEST_CHECK(s.axis == 1, "7 values on every axis: axis %d, not the widest y", s.axis);
+    free(v);
+    free(scratch);
+    free(pts);
+}
+
 /* kpar_slabs_at: given cuts split like kpar_slab_split when balanced, else nothing changes. */
 static void test_given_cuts_split_only_when_balanced(void)
 {
@@ -396,6 +436,7 @@ int main(void)
     TU_RUN(test_slabs_colour_their_points_and_keep_the_order);
     TU_RUN(test_too_few_points_or_one_thread_are_refused);
     TU_RUN(test_cuts_on_a_given_axis_are_its_ranks);
+    TU_RUN(test_the_axis_avoids_a_crowd_at_the_cut);
     TU_RUN(test_given_cuts_split_only_when_balanced);
     TU_RUN(test_crossing_counts_match_a_brute_force_count);
     TU_RUN(test_the_first_pass_takes_slabs_only_for_a_clear_gain);

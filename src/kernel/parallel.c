@@ -29,7 +29,8 @@
  *   alpha <= 1/n       -> the rest of the round is inserted sequentially,
  *   1/n < alpha <= 1/6 -> half the threads (reduction),
  *   otherwise          -> same threads, new partitions: slabs between median planes
- *                         across the pending points' widest axis (NOTES.md E40; where slabs
+ *                         across the axis whose cuts meet the fewest pending points
+ *                         (NOTES.md E40, E178; where slabs
  *                         are refused, the round's first retry cuts the same curve in the
  *                         middles of the first pass's slices' deferred points, E6, E20,
  *                         later ones use an enlarged, shifted box).
@@ -188,12 +189,13 @@ static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np)
     return GTET_OK;
 }
 
-/* A pass's slabs and colours (O1): slabs between median planes across `axis`, or the pending
- * points' widest axis (-1) (slabs.c, NOTES.md E40), or at the `given` cuts (a sample's, E70);
- * 0, with nothing changed, when the coordinates do not allow balanced slabs (the caller then
- * cuts on keys).  The np doubles of scratch are the radix scratch P->tk (malloc'ed
- * for the round's pending points, 8 bytes each, >= np; unused by a pass that cuts slabs): no
- * allocation in the pass, and the memory guard's count of the round's arrays holds. */
+/* A pass's slabs and colours (O1): slabs between median planes across `axis`, or across the
+ * axis where the pending points crowd least at the cuts (-1) (slabs.c, NOTES.md E40, E178), or
+ * at the `given` cuts (a sample's, E70); 0, with nothing changed, when the coordinates do not
+ * allow balanced slabs (the caller then cuts on keys).  The np doubles of scratch are the radix
+ * scratch P->tk (malloc'ed for the round's pending points, 8 bytes each, >= np; unused by a
+ * pass that cuts slabs): no allocation in the pass, and the memory guard's count of the
+ * round's arrays holds. */
 static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, int axis,
                       const kpar_slab_cuts *given, size_t begin[], size_t end[])
 {

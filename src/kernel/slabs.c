@@ -8,8 +8,17 @@
  * Moore cells with a large, folded area -- everywhere, so the deferred points spread over the
  * whole slice and a retry with other Moore cuts inserted none of them (the round then went
  * serial: 114k of 833k points on the Bunny).  A median plane has the least boundary a cut at
- * equal counts can have on a compact set, and the widest spread puts it across the deferred
- * points' crowd: a retry on it inserts 70-85% of them in parallel.
+ * equal counts can have on a compact set: a retry on it inserts 70-85% of them in parallel.
+ *
+ * Which axis: the deferred points crowd along the last pass's colour boundary, and a median
+ * plane that runs along part of that boundary re-defers the crowd (a dense cluster cut at a
+ * Moore cell's face x = 1/2 + 2^-11 in its first pass: its deferred points' x-median lay on
+ * that face and the retry re-deferred 25% of them).  The points a plane re-defers are those
+ * within about a cavity's reach of it, as many as the pending points' density across the
+ * axis at the cut; so each cut's axis is scored by the width of the quantile window around it
+ * (1/32 of a sample of the pending points, centred on the cut's rank), and the axis whose cuts
+ * have the widest windows (the least sum of 1/width) wins (NOTES.md E178).  Widest windows,
+ * not widest spread: a spread counts where the points are, not where the cut falls.
  *
  * Obligation O1 (proofs/parallel.md): the cuts and every vertex's colour are computed before the
  * region from the coordinates alone (kpar_slab_of), and slice k is exactly the pending points of
@@ -19,6 +28,7 @@
 
 #include "kmesh.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -74,18 +84,53 @@ double kpar_select(double *a, size_t n, size_t r)
     return a[r];
 }
 
-/* The distance between the 1/4 and 3/4 quantiles of the coordinates on `axis` of every
- * stride-th point (an estimate is all the choice of the axis needs). */
+/* The distance between the 1/4 and 3/4 quantiles of the sorted sample a[0..n). */
+static double middle_spread(const double *a, size_t n)
+{
+    return a[3 * n / 4] - a[n / 4];
+}
+
+/* The crowd at the cuts of nth slabs across `axis`: the sum over the cuts k = 1..nth-1 of
+ * 1 / (the width of the window of sample ranks r_k - n/64 .. r_k + n/64 around the cut's rank
+ * r_k = n k / nth), on a sample of every stride-th point (an estimate is all the choice of
+ * the axis needs), sorted into a[0..*n_out); INFINITY when a window has width 0 (equal
+ * coordinates at a cut). */
 #define SPREAD_SAMPLE 4096
-static double middle_spread(const double *v, const uint32_t *pts, size_t np, int axis, double *a)
+#define CROWD_WINDOW 64  /* half a window: 1/64 of the sample on each side of the cut */
+static double cut_crowd(const double *v, const uint32_t *pts, size_t np, int nth, int axis,
+                        double *a, size_t *n_out)
 {
     const size_t stride = np / SPREAD_SAMPLE + 1;
     size_t n = 0;
     for (size_t i = 0; i < np; i += stride) a[n++] = v[3 * (size_t)pts[i] + axis];
-    const size_t q1 = n / 4, q3 = 3 * n / 4;
-    const double x1 = kpar_select(a, n, q1);
-    const double x3 = kpar_select(a + q1, n - q1, q3 - q1);
-    return x3 - x1;
+    qsort(a, n, sizeof *a, cmp_double);
+    *n_out = n;
+    const size_t w = n / CROWD_WINDOW ? n / CROWD_WINDOW : 1;
+    double sum = 0.0;
+    for (int k = 1; k < nth; k++) {
+        const size_t r = n * (size_t)k / (size_t)nth;
+        const size_t lo = r >= w ? r - w : 0, hi = r + w < n ? r + w : n - 1;
+        const double width = a[hi] - a[lo];
+        if (!(width > 0)) return INFINITY;
+        sum += 1.0 / width;
+    }
+    return sum;
+}
+
+/* The axis of a retry's slabs: the least crowd at the cuts (cut_crowd), the lowest axis on
+ * ties; when every axis has equal coordinates at some cut, the widest middle spread. */
+static int slab_axis(const double *v, const uint32_t *pts, size_t np, int nth, double *a)
+{
+    int axis = 0, wide = 0;
+    double least = INFINITY, widest = -1.0;
+    for (int d = 0; d < 3; d++) {
+        size_t n;
+        const double crowd = cut_crowd(v, pts, np, nth, d, a, &n);
+        const double spread = middle_spread(a, n);
+        if (crowd < least) least = crowd, axis = d;
+        if (spread > widest) widest = spread, wide = d;
+    }
+    return least < INFINITY ? axis : wide;
 }
 
 /* Every slab of s holds at least np / (2 nth) of the points. */
@@ -102,13 +147,7 @@ int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, 
                       double *scratch, kpar_slab_cuts *out)
 {
     if (nth < 2 || nth > 256 || np < 4 * (size_t)nth || axis < -1 || axis > 2) return 0;
-    if (axis < 0) {
-        double widest = -1.0;
-        for (int d = 0; d < 3; d++) {
-            const double w = middle_spread(v, pts, np, d, scratch);
-            if (w > widest) widest = w, axis = d;
-        }
-    }
+    if (axis < 0) axis = slab_axis(v, pts, np, nth, scratch);
     kpar_slab_cuts s = {.axis = axis, .nth = nth};
     for (size_t i = 0; i < np; i++) scratch[i] = v[3 * (size_t)pts[i] + axis];
     size_t done = 0;  /* scratch[0..done) lies below every later rank */

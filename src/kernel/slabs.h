@@ -43,16 +43,18 @@ typedef struct kpar_runs {
 } kpar_runs;
 
 /* Cut the pending points pts[0..np) (vertex ids into v, 3 doubles each) into nth slabs of
- * about equal counts across the axis on which their middle halves spread widest (the largest
- * distance between the 1/4 and 3/4 quantiles of the coordinates of pts[0], pts[s], pts[2 s],
- * ... with s = np / 4096 + 1; the lowest axis on ties), and reorder pts so
+ * about equal counts across the axis whose cuts fall where the points are sparsest: on the
+ * sample pts[0], pts[s], pts[2 s], ... (s = np / 4096 + 1, n points), the least sum over the
+ * cuts k of 1 / (the distance between the sample's quantiles of ranks n k / nth -+ n / 64);
+ * the lowest axis on ties; the widest 1/4 .. 3/4 quantile spread when every axis has a
+ * window of width 0.  Then reorder pts so
  * that slice k = pts[begin[k] .. end[k]) holds the points of slab k in their previous order.
  * scratch: np doubles; tmp: np entries.  Returns 0, with nothing changed, when some slab
  * would hold fewer than np / (2 nth) points (equal coordinates, a flat set), or nth < 2. */
 int kpar_slabs(const double *v, uint32_t *pts, size_t np, int nth, double *scratch,
                uint32_t *tmp, size_t begin[], size_t end[], kpar_slab_cuts *out);
 
-/* The cuts of kpar_slabs on `axis` (0..2), or on the widest axis (-1), without reordering
+/* The cuts of kpar_slabs on `axis` (0..2), or on kpar_slabs' axis (-1), without reordering
  * anything: 0 when some slab would hold fewer than np / (2 nth) points (or nth < 2).
  * scratch: np doubles. */
 int kpar_slab_cuts_on(const double *v, const uint32_t *pts, size_t np, int nth, int axis,
