@@ -269,6 +269,42 @@ static void test_cuts_balance_the_weights_of_fine_and_coarse_keys(void)
                wt[0], wt[1], end[0] - begin[0], end[1] - begin[1]);
 }
 
+/* kpar_slices's origin search (a round's first pass, rotate 2) runs on the slices' threads
+ * past 65536 keys (slices.c best_origin): its answer must be the one-thread answer.  The same
+ * call from inside a one-thread team's nested region (nesting is off: the search's region
+ * gets one thread) gives the same slices, ranges and order, on cluster keys (the search is not
+ * skipped: origin 0 cuts the cluster) and on keys with long runs of equal values. */
+static void test_the_origin_search_gives_the_one_thread_answer(void)
+{
+    enum { N = 200000 };
+    static uint64_t pk[N], pk1[N], tk[N];
+    static uint32_t pts[N], pts1[N], ti[N];
+    int bad = 0;
+    for (int set = 0; set < 4 && !bad; set++)
+        for (int nth = 2; nth <= 4 && !bad; nth++) {
+            uint64_t seed = 7 + (uint64_t)set;
+            const size_t n = N - 1000 * (size_t)set;
+            if (set % 2 == 0) cluster_keys(pk, pts, n);
+            else make_keys(pk, pts, n, set == 1 ? 1000 : 100000, &seed);
+            memcpy(pk1, pk, n * sizeof *pk);
+            memcpy(pts1, pts, n * sizeof *pts);
+            size_t b[256], e[256], b1[256], e1[256];
+            uint64_t rel[256], rel1[256], bound0, bound1;
+            kpar_slices(pk, pts, n, nth, 2, NULL, 0, tk, ti, b, e, rel, &bound0);
+#pragma omp parallel num_threads(2)
+#pragma omp single
+            kpar_slices(pk1, pts1, n, nth, 2, NULL, 0, tk, ti, b1, e1, rel1, &bound1);
+            int same = bound0 == bound1 && !memcmp(pk, pk1, n * sizeof *pk) &&
+                       !memcmp(pts, pts1, n * sizeof *pts);
+            for (int k = 0; k < nth; k++) same &= b[k] == b1[k] && e[k] == e1[k] && rel[k] == rel1[k];
+            if (!same) {
+                TEST_CHECK(0, "set %d, %d threads: slices start at %zu / %zu (one thread %zu / %zu)",
+                           set, nth, b[0], b[1], b1[0], b1[1]);
+                bad = 1;
+            }
+        }
+}
+
 int main(void)
 {
     TU_RUN(test_every_point_of_a_slice_has_its_colour_with_and_without_rotation);
@@ -276,5 +312,6 @@ int main(void)
     TU_RUN(test_a_cluster_in_one_cube_is_one_slice);
     TU_RUN(test_the_retry_after_a_free_origin_cuts_between_the_crowds);
     TU_RUN(test_cuts_balance_the_weights_of_fine_and_coarse_keys);
+    TU_RUN(test_the_origin_search_gives_the_one_thread_answer);
     return tu_finish();
 }

@@ -78,6 +78,7 @@ static long snap_cut(const uint64_t *pk, size_t np, size_t t, size_t tol)
  * keys alone, the same in every run -- and weighs W_FINE, else W_COARSE; fine_span 0: every
  * point weighs 1.  When all weights are equal the cuts are the equal-count ones. */
 #define SPAN_W 8
+#define BEST_ORIGIN_PARALLEL 65536  /* fewer pending points: the origin's search on one thread */
 #define W_COARSE 10
 #define W_FINE 13
 static unsigned point_weight(const uint64_t *pk, size_t np, size_t i, uint64_t fine_span)
@@ -123,10 +124,21 @@ static void cut_targets(const uint64_t *pk, size_t np, int nth, uint64_t span,
  * KEY_BITS - 1 (octant faces: only the origin's gap is coarser, so nothing beats it; uniform
  * points with 2 or 4 threads), without the search.  The search: the highest level within tol
  * of every gap x at once (van Herk / Gil-Werman: block-wise prefix and suffix maxima over the
- * gaps x - tol .. x + tol, blocks of w = 2 tol + 1), then each origin's worst cut, the cuts
- * swept along with the origin; scratch holds 3 np + 4 tol bytes. */
+ * gaps x - tol .. x + tol, blocks of w = 2 tol + 1), then each origin's worst cut; scratch
+ * holds 3 np + 4 tol bytes.  With unit weights the cuts of origin r are at r + goal[j] (each
+ * point weighs 1: cut_targets stops where the count from r reaches goal[j]), so every step
+ * is a loop over independent positions or blocks, run on `threads` threads; the best origin
+ * is the one of the greatest score, then the least distance to 0, then the least r -- the
+ * one an ascending scan keeping strict improvements finds -- whatever the thread count. */
+/* The gap of extended index k (0 <= k < np + 2 tol, tol < np): (k - tol) mod np, without a
+ * division (a loop over every extended index takes one per index otherwise). */
+static inline size_t ext_gap(size_t k, size_t tol, size_t np)
+{
+    return k < tol ? k + np - tol : k - tol < np ? k - tol : k - tol - np;
+}
+
 static size_t best_origin(const uint64_t *pk, size_t np, int nth, size_t tol,
-                          const uint64_t goal[], int8_t *scratch)
+                          const uint64_t goal[], int8_t *scratch, int threads)
 {
     const uint64_t span = 0;  /* unit weights */
     uint64_t b, acc[256] = {0};
@@ -140,35 +152,52 @@ static size_t best_origin(const uint64_t *pk, size_t np, int nth, size_t tol,
     }
     if (worst0 >= KEY_BITS - 1) return 0;
     const size_t w = 2 * tol + 1, n2 = np + 2 * tol, rend = nth > 1 ? pos[1] : np;
+    const size_t nblocks = (n2 + w - 1) / w;
     int8_t *lev = scratch, *pre = scratch + np, *suf = pre + n2;
-    for (size_t i = 0; i < np; i++) lev[i] = (int8_t)gap_level(pk, np, i, &b);
-    for (size_t k = 0; k < n2; k++) {  /* extended index k is gap (k - tol) mod np */
-        const int8_t e = lev[(k + np - tol) % np];
-        pre[k] = (k % w == 0 || e > pre[k - 1]) ? e : pre[k - 1];
+    const int T = threads > 1 && np > BEST_ORIGIN_PARALLEL ? threads : 1;
+#pragma omp parallel num_threads(T) if (T > 1)
+    {
+        uint64_t bi;
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < np; i++) lev[i] = (int8_t)gap_level(pk, np, i, &bi);
+#pragma omp for schedule(static)
+        for (size_t blk = 0; blk < nblocks; blk++) {
+            /* extended index k is gap (k - tol) mod np; block blk is k in [blk w, blk w + w) */
+            const size_t k0 = blk * w, k1 = k0 + w < n2 ? k0 + w : n2;
+            for (size_t k = k0; k < k1; k++) {
+                const int8_t e = lev[ext_gap(k, tol, np)];
+                pre[k] = (k == k0 || e > pre[k - 1]) ? e : pre[k - 1];
+            }
+            for (size_t k = k1; k-- > k0;) {
+                const int8_t e = lev[ext_gap(k, tol, np)];
+                suf[k] = (k == k1 - 1 || e > suf[k + 1]) ? e : suf[k + 1];
+            }
+        }
     }
-    for (size_t k = n2; k-- > 0;) {
-        const int8_t e = lev[(k + np - tol) % np];
-        suf[k] = (k % w == w - 1 || k == n2 - 1 || e > suf[k + 1]) ? e : suf[k + 1];
-    }
-    size_t best = 0;
+    size_t best = 0, bdist = 0;
     int best_score = -2;
-    for (size_t r = 0; r < rend; r++) {
-        if (r > 0) {  /* the origin moves past point r - 1 */
-            const unsigned wr = point_weight(pk, np, r - 1, span);
-            for (int j = 0; j < nth; j++) acc[j] = acc[j] > wr ? acc[j] - wr : 0;
-            pos[0] = r;
-            cut_targets(pk, np, nth, span, goal, acc, pos, tgt);
+#pragma omp parallel num_threads(T) if (T > 1)
+    {
+        size_t my = 0, mydist = 0;
+        int my_score = -2;
+#pragma omp for schedule(static) nowait
+        for (size_t r = 0; r < rend; r++) {
+            int score = KEY_BITS + 1;
+            for (int j = 0; j < nth && score >= my_score; j++) {
+                size_t x = r + (size_t)goal[j];  /* < 2 np; window: extended x .. x + 2 tol */
+                if (x >= np) x -= np;
+                const int8_t a = suf[x], c = pre[x + w - 1];
+                const int m = a > c ? a : c;
+                if (m < score) score = m;
+            }
+            const size_t dist = r < rend - r ? r : rend - r;
+            if (score > my_score || (score == my_score && dist < mydist))
+                my_score = score, my = r, mydist = dist;
         }
-        int score = KEY_BITS + 1;
-        for (int j = 0; j < nth && score >= best_score; j++) {
-            const size_t x = tgt[j];  /* window: extended x .. x + 2 tol */
-            const int8_t a = suf[x], c = pre[x + w - 1];
-            const int m = a > c ? a : c;
-            if (m < score) score = m;
-        }
-        const size_t dist = r < rend - r ? r : rend - r;
-        const size_t bdist = best < rend - best ? best : rend - best;
-        if (score > best_score || (score == best_score && dist < bdist)) best_score = score, best = r;
+#pragma omp critical(gtet_best_origin)
+        if (my_score > best_score ||
+            (my_score == best_score && (mydist < bdist || (mydist == bdist && my < best))))
+            best_score = my_score, best = my, bdist = mydist;
     }
     return best;
 }
@@ -221,7 +250,7 @@ static int cut_on_cells(uint64_t *pk, uint32_t *pts, size_t np, int nth, int mod
     if (!(mode == 1 && prev && prev->nth == nth && retry_targets(pk, np, nth, prev, tgt))) {
         uint64_t goal[256] = {0}, acc[256] = {0};
         cut_goals(pk, np, nth, 0, goal);
-        const size_t r = mode == 2 ? best_origin(pk, np, nth, tol, goal, (int8_t *)tk)
+        const size_t r = mode == 2 ? best_origin(pk, np, nth, tol, goal, (int8_t *)tk, nth)
                                    : mode == 1 ? s / 2 : 0;
         const uint64_t span = cut_goals(pk, np, nth, mode == 1 ? 0 : fine_span, goal);
         size_t pos[256];
