@@ -261,6 +261,7 @@ void mx_hull_facet(const run *R, const uint32_t *tv, int f, uint32_t out[3])
 
 static gtet_status make_queries(run *R, vec *out)
 {
+    mx_upper_clean();   /* after the kernel and the agreement (E220) */
     int P = R->c.size, me = R->c.rank;
     for (int q = 0; q < P; q++) out[q].rs = sizeof(query);
     size_t nt;
@@ -385,6 +386,7 @@ gtet_status mx_step_rounds(run *R)
         for (int q = 0; q < P; q++) out[q].rs = sizeof(mpt);
         /* where the scans would be quadratic, the ball queries are answered from DT(X) (D12) */
         s = mx_lift_build(R, qs, rt, &L);
+        mx_upper_clean();   /* after the exchange and DT(X)'s kernel (E220) */
         size_t k = 0;
         for (int q = 0; q < P && s == GTET_OK; q++)
             for (size_t i = 0; i < rcnt[q] && s == GTET_OK; i++, k++)

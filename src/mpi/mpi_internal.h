@@ -55,6 +55,8 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
                         void **rbuf, size_t *rcnt, size_t *rtot, int ghost);
 
 double mx_now(void);
+/* vzeroupper where the CPU has AVX, before the MPI layer's floating-point loops (mpi_util.c) */
+void mx_upper_clean(void);
 
 /* a test switch from the environment: -1 for "off" or "0", 1 for "on" or "1", else 0 */
 int mx_env_mode(const char *name);

@@ -374,6 +374,7 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     size_t nt;
     release_rounds(R);
     take_local(R, &nt);
+    mx_upper_clean();   /* E220 */
     uint32_t *tv = R->ptv, *nb = R->ptn;
     size_t m = R->m;
     outx X = {NULL, NULL, NULL, {NULL, 0, 0, sizeof(frec)}, {NULL, 0, 0, sizeof(uint64_t)}};
