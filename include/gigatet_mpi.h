@@ -61,6 +61,9 @@ typedef struct gtet_mpi_stats {
     int answer_lifts;           /* rounds in which it answered the circumball queries from a
                                    triangulation of its tile and their vertices (D12) instead
                                    of scanning its tile's grid */
+    uint64_t answers_near;      /* its answers to tet queries that held more points than a
+                                   threshold and were cut to those near the asker's box, as
+                                   hull facets' answers are (proofs/distributed.md step 6c) */
     double seconds_validate;    /* NaN scan, duplicates, global vertex ids, dimension */
     double seconds_partition;   /* kd tiles from a sample, points to their tiles */
     double seconds_triangulate; /* local gtet_triangulate calls, summed over rounds */

@@ -492,6 +492,7 @@ static void print_stats(const args *a, const gtet_mpi_result *r, double seconds_
         printf("%s{\"rank\":%d,\"tile_points\":%llu,\"ghost_points\":%llu,\"ghost_seeded\":%llu,"
                "\"rebuilds\":%d,\"scans\":%d,\"queries_sent\":%llu,\"bytes_sent\":%llu,"
                "\"bytes_sent_ghost\":%llu,\"answer_tests\":%llu,\"answer_lifts\":%d,"
+               "\"answers_near\":%llu,"
                "\"tets\":%llu,\"seconds\":{\"validate\":%.6f,\"partition\":%.6f,"
                "\"triangulate\":%.6f,\"exchange\":%.6f,\"output\":%.6f,\"total\":%.6f}}",
                q ? "," : "", q, (unsigned long long)s->tile_points,
@@ -500,6 +501,7 @@ static void print_stats(const args *a, const gtet_mpi_result *r, double seconds_
                (unsigned long long)s->bytes_sent,
                (unsigned long long)s->bytes_sent_ghost,
                (unsigned long long)s->answer_tests, s->answer_lifts,
+               (unsigned long long)s->answers_near,
                (unsigned long long)(r->tet_offsets[q + 1] - r->tet_offsets[q]),
                s->seconds_validate, s->seconds_partition, s->seconds_triangulate,
                s->seconds_exchange, s->seconds_output, s->seconds_total);

@@ -55,6 +55,8 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
                         void **rbuf, size_t *rcnt, size_t *rtot, int ghost);
 
 double mx_now(void);
+/* vzeroupper where the CPU has AVX, before the MPI layer's floating-point loops (mpi_util.c) */
+void mx_upper_clean(void);
 
 /* a test switch from the environment: -1 for "off" or "0", 1 for "on" or "1", else 0 */
 int mx_env_mode(const char *name);
@@ -258,8 +260,12 @@ gtet_status mx_grid_build(run *R);
 /* R->gr.far from the tile grid and the gathered boxes (mx_grid_build's caller, D11) */
 gtet_status mx_grid_far(run *R);
 /* append to out (mpt records) the tile points in conflict with Q not sent to rank `to`
- * before (for a hull facet only those near the nearest one: D3), and mark them sent */
+ * before (for a hull facet, and a tet with a large answer, only those near the nearest one:
+ * D3), and mark them sent */
 gtet_status mx_answer(run *R, const query *Q, int to, vec *out);
+/* the answer out[n0..) (ids: tile indices, not marked sent) filtered to the points near the
+ * nearest one for a hull facet or a large tet answer, marked sent, records restored */
+gtet_status mx_answer_near(run *R, int to, vec *out, size_t n0, int hull);
 
 /* a ball's cell range in the tile grid (the whole grid for B->all): every tile point within
  * the ball lies in the cells lo..hi (mx_answer's scan range) */

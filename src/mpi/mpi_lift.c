@@ -319,7 +319,8 @@ static int cmp_u32(const void *a, const void *b)
 }
 
 /* The tile points in conflict with the tet query Q, not sent to `to` before, appended to out
- * in tile order and marked sent: the same set mx_answer's scan gives (D12).  The search starts
+ * in tile order, filtered as the scan's (mx_answer_near) and marked sent: the same set
+ * mx_answer's scan gives (D12).  The search starts
  * at Q's first vertex, whose neighbours include a conflicting point whenever one exists, and
  * crosses conflicting points only; Q's vertices are never tested (the scan skips them too). */
 /* the tile points not sent to `to` yet, in tile order, marked sent: a complete answer (D12) */
@@ -383,12 +384,13 @@ gtet_status mx_answer_lift(run *R, lift *L, const query *Q, int to, vec *out)
     for (size_t k = 0; k < nk; k++)
         if (L->queue[k] < R->m && !mx_sent(R, L->queue[k], to)) L->queue[w++] = L->queue[k];
     mpi_sort(L->queue, w, sizeof *L->queue, cmp_u32);
+    size_t n0 = out->n;
     for (size_t k = 0; k < w; k++) {
         uint32_t j = L->queue[k];
         mpt *o = mx_vec_push(out);
-        if (!o || mx_mark_sent(R, j, to) < 0)
-            return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+        if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
         *o = R->sp[j];
+        o->id = j;   /* the tile index until mx_answer_near, as the scan's */
     }
-    return GTET_OK;
+    return mx_answer_near(R, to, out, n0, 0);
 }

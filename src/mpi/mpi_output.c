@@ -25,34 +25,49 @@ static int cmp_frec_idx(const void *a, const void *b)
     return x->tet < y->tet ? -1 : x->tet > y->tet;
 }
 
-/* a[0..n) by id: LSD radix sort, 11-bit digits, as many as the largest id needs (2 passes up
- * to 2^22 vertices, 3 up to 2^33; NOTES.md E206: 8-bit digits took 3 passes from 2^16 on), where
- * qsort was 3.5 % of a rank's instructions; -1 out of memory */
+/* the tet loops below read vid[] (by vertex) and lid[] (by neighbour) at random, a cache miss
+ * each on a big mesh: the rows OPF tets ahead are asked for while the current one is worked on */
+#define OPF 16
+
+/* a vertex of the used list: its id and its index in S */
+typedef struct idpos {
+    uint64_t id, i;
+} idpos;
+
+/* The used vertices by id into ids[0..n) and xyz[0..3n) (coordinates from R->sp): an LSD radix
+ * sort of a[0..n) (b: room for n more), 11-bit digits, as many as the largest id needs (2
+ * passes up to 2^22 vertices, 3 up to 2^33; NOTES.md E206: 8-bit digits took 3 passes from 2^16
+ * on; qsort was 3.5 % of a rank's instructions).  The pairs are 16 B where S's records are 32,
+ * and the last pass writes the result itself (NOTES.md E217).  -1 out of memory */
 #define RADIX_BITS 11
-static int sort_by_id(mpt *a, size_t n)
+static int sort_used(const run *R, idpos *a, idpos *b, size_t n, uint64_t *ids, double *xyz)
 {
     uint64_t top = 0;
     for (size_t i = 0; i < n; i++) top = a[i].id > top ? a[i].id : top;
-    mpt *b = mx_malloc((n + 1) * sizeof *b);
     size_t *cnt = mx_malloc(((1u << RADIX_BITS) + 1) * sizeof *cnt);
-    if (!b || !cnt) {
-        free(b);
-        free(cnt);
-        return -1;
-    }
+    if (!cnt) return -1;
     const uint64_t mask = (1u << RADIX_BITS) - 1;
-    mpt *src = a, *dst = b;
-    for (int sh = 0; sh < 64 && (sh == 0 || (top >> sh) != 0); sh += RADIX_BITS) {
+    idpos *src = a, *dst = b;
+    for (int sh = 0;; sh += RADIX_BITS) {
+        int last = sh + RADIX_BITS >= 64 || (top >> (sh + RADIX_BITS)) == 0;
         memset(cnt, 0, ((1u << RADIX_BITS) + 1) * sizeof *cnt);
         for (size_t i = 0; i < n; i++) cnt[((src[i].id >> sh) & mask) + 1]++;
         for (size_t d = 0; d < mask + 1; d++) cnt[d + 1] += cnt[d];
-        for (size_t i = 0; i < n; i++) dst[cnt[(src[i].id >> sh) & mask]++] = src[i];
-        mpt *t = src;
-        src = dst;
-        dst = t;
+        if (!last) {
+            for (size_t i = 0; i < n; i++) dst[cnt[(src[i].id >> sh) & mask]++] = src[i];
+            idpos *t = src;
+            src = dst;
+            dst = t;
+            continue;
+        }
+        for (size_t i = 0; i < n; i++) {
+            if (i + OPF < n) __builtin_prefetch(&R->sp[src[i + OPF].i]);
+            size_t k = cnt[(src[i].id >> sh) & mask]++;
+            ids[k] = src[i].id;
+            memcpy(xyz + 3 * k, R->sp[src[i].i].x, 3 * sizeof(double));
+        }
+        break;
     }
-    if (src != a) memcpy(a, src, n * sizeof *a);
-    free(b);
     free(cnt);
     return 0;
 }
@@ -60,9 +75,6 @@ static int sort_by_id(mpt *a, size_t n)
 
 #define NOLID UINT32_MAX
 
-/* the tet loops below read vid[] (by vertex) and lid[] (by neighbour) at random, a cache miss
- * each on a big mesh: the rows OPF tets ahead are asked for while the current one is worked on */
-#define OPF 16
 
 /* Step 7 writes its result over the local mesh (NOTES.md E120, E130).  The owned tets' rows
  * are first moved down in place in both uint32 arrays (row o of owned tet t, o <= t: a row is
@@ -325,32 +337,32 @@ static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *r
     res->num_tile_vertices = m;
     res->tile_vertex_ids = mx_malloc((m + 1) * sizeof *res->tile_vertex_ids);
     res->tile_vertices = mx_malloc((3 * m + 1) * sizeof *res->tile_vertices);
-    uint64_t *used = mx_malloc((R->ns + 1) * sizeof *used);
-    mpt *lst = mx_malloc((R->ns + 1) * sizeof *lst);
-    if (!res->tile_vertex_ids || !res->tile_vertices || !used || !lst) {
-        free(used);
-        free(lst);
-        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    }
-    if ((s = mx_agree(c, s)) != GTET_OK) return s;
-    for (size_t i = 0; i < m; i++) {
-        res->tile_vertex_ids[i] = R->sp[i].id;   /* S's first m points: the tile */
-        memcpy(res->tile_vertices + 3 * i, R->sp[i].x, 3 * sizeof(double));
-    }
     size_t w = 0;
-    for (size_t i = 0; i < R->ns; i++)
-        if (usedv[i]) lst[w++] = R->sp[i];
-    res->num_used_vertices = w;
-    res->used_vertex_ids = used;
+    for (size_t i = 0; i < R->ns; i++) w += usedv[i];
+    uint64_t *used = mx_malloc((w + 1) * sizeof *used);
+    idpos *a = mx_malloc((w + 1) * sizeof *a), *b = mx_malloc((w + 1) * sizeof *b);
     res->used_vertices = mx_malloc((3 * w + 1) * sizeof *res->used_vertices);
-    if (!res->used_vertices || sort_by_id(lst, w) != 0)
+    res->used_vertex_ids = used;
+    res->num_used_vertices = w;
+    if (!res->tile_vertex_ids || !res->tile_vertices || !used || !a || !b ||
+        !res->used_vertices)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    if (s == GTET_OK)
-        for (size_t i = 0; i < w; i++) {
-            used[i] = lst[i].id;
-            memcpy(res->used_vertices + 3 * i, lst[i].x, 3 * sizeof(double));
+    if (s == GTET_OK) {
+        for (size_t i = 0; i < m; i++) {
+            res->tile_vertex_ids[i] = R->sp[i].id;   /* S's first m points: the tile */
+            memcpy(res->tile_vertices + 3 * i, R->sp[i].x, 3 * sizeof(double));
         }
-    free(lst);
+        size_t k = 0;
+        for (size_t i = 0; i < R->ns; i++)
+            if (usedv[i]) {
+                a[k].id = R->sp[i].id;
+                a[k++].i = i;
+            }
+        if (sort_used(R, a, b, w, used, res->used_vertices) != 0)
+            s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    free(a);
+    free(b);
     return mx_agree(c, s);
 }
 
@@ -362,6 +374,7 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     size_t nt;
     release_rounds(R);
     take_local(R, &nt);
+    mx_upper_clean();   /* E220 */
     uint32_t *tv = R->ptv, *nb = R->ptn;
     size_t m = R->m;
     outx X = {NULL, NULL, NULL, {NULL, 0, 0, sizeof(frec)}, {NULL, 0, 0, sizeof(uint64_t)}};

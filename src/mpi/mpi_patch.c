@@ -343,6 +343,7 @@ static int merge(patch *X, const fmap *B, const uint32_t *fid, size_t nnew)
  * comment). */
 gtet_status mx_patch(run *R, size_t n_old, int *done)
 {
+    mx_upper_clean();   /* after the exchange (E220) */
     patch X;
     memset(&X, 0, sizeof X);
     X.R = R;

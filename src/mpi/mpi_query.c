@@ -389,22 +389,42 @@ void mx_ball_range(const grid *G, const ball *B, int lo[3], int hi[3])
     ball_clip(G, B, lo, hi);
 }
 
-/* A hull facet's answer (out's records from n0 on, ids still tile indices): only the points
- * within the layer width of this tile of the nearest one's distance to rank `to`'s box, which
- * are marked sent and get their ids back.  The halfspace beyond a facet of `to`'s local hull
- * holds a whole sheet of this tile along a face of the global box, nearly all of it irrelevant
- * to `to`'s star; a non-empty answer whenever a conflicting point was not sent is all D3 and
- * D8 need (a later round asks again if the facet survives). */
-static gtet_status near_hull(run *R, int to, vec *out, size_t n0)
+/* The tets' answers are filtered like the hull facets' (below) only when they hold more than
+ * this many points: a few flat tets of a rank's local hull have spheres that hold a thin lens of
+ * another tile along a face of the global box (thousands of points, nearly all irrelevant to
+ * the asker's star: NOTES.md Q46, E216); a uniform set's other answers hold a few points each */
+#ifndef NEAR_TET_MIN
+#define NEAR_TET_MIN 64
+#endif
+
+/* A query's answer (out's records from n0 on, ids still tile indices, not yet marked sent):
+ * for a hull facet, and for a tet whose answer holds more than NEAR_TET_MIN points, only the
+ * points within the layer width of this tile of the nearest one's distance to rank `to`'s box;
+ * those kept are marked sent and get their records back.  The halfspace beyond a facet of
+ * `to`'s local hull holds a whole sheet of this tile along a face of the global box; a non-empty
+ * answer whenever a conflicting point was not sent is all D3 and D8 need (any point of it
+ * destroys the simplex in `to`'s next triangulation, whose new simplices are queried again).
+ * GTET_MPI_NEAR=off: the tets' answers whole; =on: every tet's answer cut (the tests compare
+ * these with the default). */
+gtet_status mx_answer_near(run *R, int to, vec *out, size_t n0, int hull)
 {
     mpt *o = (mpt *)out->p;
     const double *box = R->box + 6 * to;
-    double dmin = INFINITY;
-    for (size_t i = n0; i < out->n; i++) dmin = fmin(dmin, mx_box_dist(box, o[i].x));
-    double lim = dmin + mx_layer_width(R, R->c.rank);
+    int filter = hull;
+    if (!hull && out->n > n0) {
+        int mode = mx_env_mode("GTET_MPI_NEAR");
+        filter = mode > 0 || (mode == 0 && out->n - n0 > NEAR_TET_MIN);
+    }
+    double lim = INFINITY;
+    if (filter) {
+        double dmin = INFINITY;
+        for (size_t i = n0; i < out->n; i++) dmin = fmin(dmin, mx_box_dist(box, o[i].x));
+        lim = dmin + mx_layer_width(R, R->c.rank);
+        R->c.st->answers_near += !hull;
+    }
     size_t w = n0;
     for (size_t i = n0; i < out->n; i++) {
-        if (!(mx_box_dist(box, o[i].x) <= lim)) continue;
+        if (filter && !(mx_box_dist(box, o[i].x) <= lim)) continue;
         uint64_t idx = o[i].id;
         if (mx_mark_sent(R, idx, to) < 0)
             return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
@@ -426,7 +446,7 @@ typedef struct scan {
 } scan;
 
 /* one point of the scan: the floating filter, "sent before", the exact predicate; a conflict
- * is appended (a hull facet's with its tile index as id, for near_hull) */
+ * is appended with its tile index as id, not yet marked sent (mx_answer_near) */
 static gtet_status scan_point(run *R, const scan *W, uint32_t j)
 {
     const query *Q = W->Q;
@@ -452,12 +472,10 @@ static gtet_status scan_point(run *R, const scan *W, uint32_t j)
         conflict = gtet_insphere_sos(Q->p[0], Q->p[1], Q->p[2], Q->p[3], p->x) > 0;
     }
     if (!conflict) return GTET_OK;
-    if (!W->hull && mx_mark_sent(R, j, W->to) < 0)
-        return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     mpt *o = mx_vec_push(W->out);
     if (!o) return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     *o = *p;
-    if (W->hull) o->id = j;   /* the tile index until near_hull */
+    o->id = j;   /* the tile index until mx_answer_near (a scan visits a point once) */
     return GTET_OK;
 }
 
@@ -552,7 +570,7 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
             W.hi[k] = G->g[k] - 1;
         }
         gtet_status s = scan_pyramid(R, &W);
-        return s != GTET_OK ? s : near_hull(R, to, out, n0);
+        return s != GTET_OK ? s : mx_answer_near(R, to, out, n0, 1);
     }
     mx_tet_ball(Q->p[0], Q->p[1], Q->p[2], Q->p[3], &W.B);
     mx_ball_range(G, &W.B, W.lo, W.hi);
@@ -567,5 +585,5 @@ gtet_status mx_answer(run *R, const query *Q, int to, vec *out)
                 gtet_status s = scan_block(R, &W, bx, by, bz);
                 if (s != GTET_OK) return s;
             }
-    return GTET_OK;
+    return mx_answer_near(R, to, out, n0, 0);
 }

@@ -115,6 +115,34 @@ sys.exit(not (d['rounds'] >= 2 and d['hull_facets'] == hull and
        [ -n "$a" ] && [ "$(g < lift.json)" = "$a" ]; then ok "$s np=$np: answers from DT(X) = scans ($a)"
     else bad "$s np=$np: GTET_MPI_LIFT=on: $(cat lift.json), ghosts with off: $a"; fi
   done; done
+  # a tet's answer of more than NEAR_TET_MIN points is cut to those near the asker's box, as a
+  # hull facet's is (mpi_query.c mx_answer_near; proofs step 6c): on 20k uniform points some
+  # flat hull tets' answers are (answers_near > 0) and GTET_MPI_NEAR=off (whole answers) cuts
+  # none, both giving the single-process mesh; GTET_MPI_NEAR=on cuts every tet's answer (an
+  # answer left empty while a conflicting point was unsent would leave a wrong tet: the mesh
+  # would differ), on uniform, grid, co-spherical and sphere sets (the grid's and the
+  # co-spherical set's seeded layers may leave no answer to cut)
+  "$cli" generate uniform 20000 --seed 3 -o u20k.xyz -q; ref u20k u20k.xyz
+  nr() { python3 -c "import json, sys; d = json.loads(sys.stdin.read().splitlines()[-1]); print(sum(r['answers_near'] for r in d['per_rank']), sum(r['ghost_points'] for r in d['per_rank']))"; }
+  for np in 2 3; do
+    if run "$np" "$mpicli" triangulate u20k.xyz -q --stats -o d_u20k.vtu > near.json &&
+       "$cli" diff ref_u20k.vtu d_u20k.vtu -q &&
+       GTET_MPI_NEAR=off run "$np" -x GTET_MPI_NEAR "$mpicli" triangulate u20k.xyz -q --stats \
+         -o d_u20k_off.vtu > whole.json && "$cli" diff ref_u20k.vtu d_u20k_off.vtu -q &&
+       python3 -c "
+import sys
+(a, ga), (b, gb) = [map(int, l.split()) for l in sys.argv[1:]]
+sys.exit(not (a > 0 and b == 0 and ga <= gb))" "$(nr < near.json)" "$(nr < whole.json)"; then
+      ok "uniform 20k np=$np: large tet answers cut near the asker (cut, ghosts: $(nr < near.json); whole: $(nr < whole.json)), identical"
+    else bad "uniform 20k np=$np: answers near: $(cat near.json) whole: $(cat whole.json)"; fi
+  done
+  for s in uniform grid cosph sphere; do for np in 2 3; do
+    if GTET_MPI_NEAR=on run "$np" -x GTET_MPI_NEAR "$mpicli" triangulate "$s.xyz" -q --stats \
+         -o "d_$s.vtu" > near.json && "$cli" diff "ref_$s.vtu" "d_$s.vtu" -q &&
+       { [ "$s" = grid ] || [ "$s" = cosph ] || [ "$(nr < near.json | cut -d' ' -f1)" -gt 0 ]; }; then
+      ok "$s np=$np: every tet answer cut near the asker ($(nr < near.json | cut -d' ' -f1)), identical"
+    else bad "$s np=$np: GTET_MPI_NEAR=on: $(cat near.json)"; fi
+  done; done
   # the sphere's answers are near-linear: the exact tests they make (answer_tests) stay under
   # 100 a point where the scans made ~n/2 a point (20k points, np 2: 4.3e8 tests, 44 s before
   # D12), and the same counter sees the scans' quadratic cost with GTET_MPI_LIFT=off (4000
