@@ -150,12 +150,17 @@ sys.exit(not (a > 0 and b == 0 and ga <= gb))" "$(nr < near.json)" "$(nr < whole
   "$cli" generate sphere 20000 --seed 1 -o sph20k.bin -q; ref sph20k sph20k.bin
   "$cli" generate sphere 4000 --seed 2 -o sph4k.bin -q; ref sph4k sph4k.bin
   t() { python3 -c "import json, sys; print(max(r['answer_tests'] for r in json.loads(sys.stdin.read().splitlines()[-1])['per_rank']))"; }
-  for np in 2 4; do
-    if run "$np" "$mpicli" triangulate sph20k.bin -q --stats -o d_sph20k.vtu > st.json &&
-       "$cli" diff ref_sph20k.vtu d_sph20k.vtu -q && [ "$(t < st.json)" -le 2000000 ]; then
-      ok "sphere 20k np=$np: identical, $(t < st.json) exact tests in a rank's answers"
-    else bad "sphere 20k np=$np: $(cat st.json)"; fi
-  done
+  # identical_bounded NAME INPUT BOUND LABEL: at np 2 and 4 the mesh of INPUT is ref_NAME's and
+  # a rank's answers make at most BOUND exact tests
+  identical_bounded() {
+    for np in 2 4; do
+      if run "$np" "$mpicli" triangulate "$2" -q --stats -o "d_$1.vtu" > st.json &&
+         "$cli" diff "ref_$1.vtu" "d_$1.vtu" -q && [ "$(t < st.json)" -le "$3" ]; then
+        ok "$4 np=$np: identical, $(t < st.json) exact tests in a rank's answers"
+      else bad "$4 np=$np: $(cat st.json)"; fi
+    done
+  }
+  identical_bounded sph20k sph20k.bin 2000000 "sphere 20k"
   a=$(run 2 "$mpicli" triangulate sph4k.bin -q --stats | t)
   b=$(GTET_MPI_LIFT=off run 2 -x GTET_MPI_LIFT "$mpicli" triangulate sph4k.bin -q --stats | t)
   if [ -n "$a" ] && [ -n "$b" ] && [ "$a" -le 400000 ] && [ "$b" -gt 400000 ]; then
@@ -173,12 +178,7 @@ with open('torus.xyz', 'w') as f:
         u, v = 2 * math.pi * r.random(), 2 * math.pi * r.random()
         f.write('%.17g %.17g %.17g\\n' % ((1 + 0.3 * math.cos(v)) * math.cos(u), (1 + 0.3 * math.cos(v)) * math.sin(u), 0.3 * math.sin(v)))"
   ref torus torus.xyz
-  for np in 2 4; do
-    if run "$np" "$mpicli" triangulate torus.xyz -q --stats -o d_torus.vtu > st.json &&
-       "$cli" diff ref_torus.vtu d_torus.vtu -q && [ "$(t < st.json)" -le 600000 ]; then
-      ok "torus np=$np: identical, $(t < st.json) exact tests in a rank's answers"
-    else bad "torus np=$np: $(cat st.json)"; fi
-  done
+  identical_bounded torus torus.xyz 600000 "torus"
   # a thin slab (3000 points, z in [0, 0.02]): here the tets a patched round makes have
   # circumballs reaching points of other tiles that no earlier query fetched, so the mesh is
   # right only if a later round queries its new tets (proofs/distributed.md 6b): with no
