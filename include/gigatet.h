@@ -305,6 +305,9 @@ typedef struct gtet_round_stats {
     int ownership;        /* vertices of a thread's colour that made a tet its own in the
                              round's last parallel pass: 4 (all, the default), 3 (after the
                              run's first failed pass, proofs/parallel.md), 0 if none ran */
+    uint64_t rebalanced;  /* points of the round's first pass that the threads had not tried
+                             when one of them finished its slice, and that were cut between
+                             neighbouring threads instead (0: no rebalancing) */
 } gtet_round_stats;
 
 typedef struct gtet_stats {

@@ -18,9 +18,12 @@
  * sanitized builds too (a few seconds under ASan).
  */
 #include <stdlib.h>
+#include <string.h>
 
+#include "canon.h"
 #include "gigatet.h"
 #include "io/io.h"
+#include "kernel/parallel.h"
 #include "testutil.h"
 
 static void sphere_rounds_keep_both_threads_inserting(uint64_t seed)
@@ -59,8 +62,77 @@ static void test_both_threads_insert_in_every_round_of_sphere_points(void)
     sphere_rounds_keep_both_threads_inserting(2);
 }
 
+/* *out: the canonical tets of p (ids form) with `threads`; *moved: the points the
+ * rebalancing moved. */
+static void tets_with(const double *p, size_t n, int threads, uint32_t **out, size_t *nt,
+                      uint64_t *moved)
+{
+    *out = NULL;
+    gtet_options o;
+    gtet_options_init(&o);
+    o.threads = threads;
+    gtet_mesh *m = NULL;
+    gtet_status s = gtet_triangulate(p, n, &o, &m);
+    TEST_REQUIRE(s == GTET_OK, "%d threads: %s", threads, gtet_status_str(s));
+    char why[160];
+    uint32_t *c = canon_input_ids(m, NULL, n, why);
+    TEST_REQUIRE(c != NULL, "%s", why);
+    *nt = gtet_mesh_num_tets(m);
+    gtet_stats st;
+    gtet_mesh_stats(m, &st);
+    *moved = 0;
+    for (int r = 0; r < st.num_rounds; r++) *moved += st.rounds[r].rebalanced;
+    gtet_mesh_free(&m);
+    *out = c;
+}
+
+/* The rebalancing of a round's first pass (src/kernel/parallel.c pass_parallel, NOTES.md
+ * E221): when a thread has done its slice, the others leave their rests, which are cut
+ * between neighbouring threads and recoloured.  Whether it happens depends on the threads'
+ * speeds, so the test hook kpar_test_stop_after makes thread 0 signal the stop after 3000
+ * tries: every thread then leaves a rest, every colour boundary moves (the loop's origin
+ * too), and the mesh must still be the one-thread mesh, tet for tet.  With a wrong boundary
+ * a thread would insert points of another's colour (GTET_DEBUG_ASSERT in the sanitized
+ * builds) and the threads would write the same tets. */
+static void test_a_rebalanced_first_pass_gives_the_one_thread_tets(void)
+{
+    const size_t n = 200000;
+    double *p = NULL, *q = NULL;
+    size_t np = 0, nq = 0;
+    io_error ie;
+    TEST_REQUIRE(io_generate("uniform", n, 7, &p, &np, &ie) == IO_OK, "generator");
+    TEST_REQUIRE(io_generate("uniform", n, 8, &q, &nq, &ie) == IO_OK, "generator");
+    for (size_t i = 0; i < nq / 2; i++)  /* half of them in a cube 10^-3 wide (bench clu) */
+        for (int d = 0; d < 3; d++) q[3 * i + d] = 0.5 + 1e-3 * q[3 * i + d];
+    const double *sets[2] = {p, q};
+    const size_t sizes[2] = {np, nq};
+    for (int k = 0; k < 2; k++) {
+        size_t nt1, nt;
+        uint64_t moved;
+        kpar_test_stop_after = 0;
+        uint32_t *ref, *c;
+        tets_with(sets[k], sizes[k], 1, &ref, &nt1, &moved);
+        TEST_REQUIRE(ref != NULL, "set %d: no one-thread mesh", k);
+        for (int threads = 2; threads <= 3; threads++) {
+            kpar_test_stop_after = 3000;
+            tets_with(sets[k], sizes[k], threads, &c, &nt, &moved);
+            kpar_test_stop_after = 0;
+            TEST_REQUIRE(c != NULL, "set %d, %d threads: no mesh", k, threads);
+            TEST_CHECK(moved > 0, "set %d, %d threads: no rest was rebalanced", k, threads);
+            TEST_CHECK(nt == nt1 && memcmp(c, ref, 4 * nt * sizeof *c) == 0,
+                       "set %d, %d threads: %zu tets, not the one-thread mesh (%zu tets)", k,
+                       threads, nt, nt1);
+            free(c);
+        }
+        free(ref);
+    }
+    free(p);
+    free(q);
+}
+
 int main(void)
 {
     TU_RUN(test_both_threads_insert_in_every_round_of_sphere_points);
+    TU_RUN(test_a_rebalanced_first_pass_gives_the_one_thread_tets);
     return tu_finish();
 }

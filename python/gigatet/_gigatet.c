@@ -378,11 +378,12 @@ static PyObject *mesh_stats(MeshObject *m, PyObject *noargs)
     for (int r = 0; r < st.num_rounds && st.rounds; r++) {
         const gtet_round_stats *rs = &st.rounds[r];
         PyObject *x = Py_BuildValue(
-            "{s:K,s:K,s:K,s:K,s:i,s:i,s:d,s:d,s:i}", "points", (unsigned long long)rs->points,
+            "{s:K,s:K,s:K,s:K,s:i,s:i,s:d,s:d,s:i,s:K}", "points", (unsigned long long)rs->points,
             "tried", (unsigned long long)rs->tried, "inserted", (unsigned long long)rs->inserted,
             "deferred", (unsigned long long)rs->deferred, "threads", rs->threads, "passes",
             rs->passes, "alpha", rs->tried ? (double)rs->inserted / (double)rs->tried : 1.0,
-            "alpha_first_pass", rs->alpha_first, "ownership", rs->ownership);
+            "alpha_first_pass", rs->alpha_first, "ownership", rs->ownership, "rebalanced",
+            (unsigned long long)rs->rebalanced);
         if (!x || PyList_Append(rounds, x) < 0) {
             Py_XDECREF(x);
             Py_DECREF(rounds);

@@ -138,11 +138,11 @@ static void print_rounds(const gtet_stats *st)
         const gtet_round_stats *rs = &st->rounds[r];
         printf("%s{\"points\":%llu,\"tried\":%llu,\"inserted\":%llu,\"deferred\":%llu,"
                "\"threads\":%d,\"passes\":%d,\"alpha\":%.4f,\"alpha_first_pass\":%.4f,"
-               "\"ownership\":%d}",
+               "\"ownership\":%d,\"rebalanced\":%llu}",
                r ? "," : "", (unsigned long long)rs->points, (unsigned long long)rs->tried,
                (unsigned long long)rs->inserted, (unsigned long long)rs->deferred, rs->threads,
                rs->passes, rs->tried ? (double)rs->inserted / (double)rs->tried : 1.0,
-               rs->alpha_first, rs->ownership);
+               rs->alpha_first, rs->ownership, (unsigned long long)rs->rebalanced);
     }
     printf("]");
 }

@@ -47,6 +47,11 @@ typedef struct kpar {
 gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys, int key_bits);
 void kpar_free(kpar *P);
 
+/* Tests only (0 in every run of the library): when nonzero, thread 0 of a round's first pass
+ * on Moore slices signals the stop of the rebalancing (parallel.c pass_parallel) after this
+ * many tries, so that every thread leaves a rest to cut. */
+extern size_t kpar_test_stop_after;
+
 /* Insert the points pts[0..np) (a BRIO round; the array is reordered) with up to P->threads
  * threads, filling the round's statistics. */
 gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs);
