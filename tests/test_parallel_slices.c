@@ -247,7 +247,7 @@ static void test_the_retry_after_a_free_origin_cuts_between_the_crowds(void)
  * spread one 10.  Specification: the two slices' weights differ by at most 2 cuts' snap
  * windows (4 tol keys of weight 13), and every point of slice k has colour k.  Equal counts
  * with the cluster whole (the cuts without weights) differ by 60000. */
-static void test_cuts_balance_the_weights_of_fine_and_coarse_keys(void)
+static void cuts_balance(uint64_t fine_span, long w_cluster)
 {
     enum { N = 40000 };
     static uint64_t pk[N], tk[N];
@@ -255,18 +255,45 @@ static void test_cuts_balance_the_weights_of_fine_and_coarse_keys(void)
     cluster_keys(pk, pts, N);
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, N, 2, 2, NULL, UINT64_C(1) << 40, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, N, 2, 2, NULL, fine_span, tk, ti, begin, end, rel, &bound0);
     long wt[2] = {0, 0};
     int wrong = 0;
     for (int k = 0; k < 2; k++)
         for (size_t i = begin[k]; i < end[k]; i++) {
-            wt[k] += in_cluster(pk[i]) ? 13 : 10;
+            wt[k] += in_cluster(pk[i]) ? w_cluster : 10;
             wrong += kpar_colour_of(pk[i], rel, bound0, 2) != k;
         }
     const long tol = N / 2 / 64;
     TEST_CHECK(wrong == 0, "%d points have another slice's colour", wrong);
-    TEST_CHECK(labs(wt[0] - wt[1]) <= 4 * tol * 13, "slice weights %ld and %ld (%zu and %zu keys)",
-               wt[0], wt[1], end[0] - begin[0], end[1] - begin[1]);
+    TEST_CHECK(labs(wt[0] - wt[1]) <= 4 * tol * w_cluster,
+               "fine_span 2^%d: slice weights %ld and %ld (%zu and %zu keys), cluster keys "
+               "weighing %ld", 63 - __builtin_clzll(fine_span), wt[0], wt[1],
+               end[0] - begin[0], end[1] - begin[1], w_cluster);
+}
+
+/* The same with the cluster's keys fine (17 of them span about 2^25.7 keys: under a fine_span
+ * of 2^28, not under 2^28 >> 6) and very fine (under 2^40 >> 6, NOTES.md E187): their weights
+ * are 13 and 14 (kpar_point_weight; the spread keys' 10), and the cuts balance them. */
+static void test_cuts_balance_the_weights_of_fine_and_coarse_keys(void)
+{
+    enum { N = 40000 };
+    static uint64_t pk[N];
+    static uint32_t pts[N];
+    cluster_keys(pk, pts, N);
+    const uint64_t spans[2] = {UINT64_C(1) << 28, UINT64_C(1) << 40};
+    const unsigned want[2] = {13, 14};
+    for (int j = 0; j < 2; j++) {
+        int bad = 0;
+        for (size_t i = 0; i < N; i++) {
+            const unsigned w = kpar_point_weight(pk, N, i, spans[j]);
+            /* the keys next to the cluster's ends see both kinds in their window */
+            const int edge = i + 8 < N && i >= 8 && in_cluster(pk[i - 8]) != in_cluster(pk[i + 8]);
+            bad += !edge && w != (in_cluster(pk[i]) ? want[j] : 10u);
+        }
+        TEST_CHECK(bad == 0, "fine_span 2^%d: %d keys without the weight %u (cluster) or 10",
+                   j ? 40 : 28, bad, want[j]);
+        cuts_balance(spans[j], (long)want[j]);
+    }
 }
 
 /* kpar_slices's origin search (a round's first pass, rotate 2) runs on the slices' threads

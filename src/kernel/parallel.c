@@ -6,8 +6,8 @@
  * the tight box computed once per run; on an enlarged and shifted box in later passes, where
  * only the vertices of the mesh are re-keyed), are sorted by key and cut into one slice per
  * thread, never between equal keys (slices.c): at the coarsest Moore-cell boundary within 1/64
- * of a slice of equal estimated cost (points denser than the static filter's scale weigh 13/10:
- * NOTES.md E21), in a round's first pass from the origin on the loop whose equal-count cuts are
+ * of a slice of equal estimated cost (points denser than the static filter's scale weigh 13/10,
+ * 14/10 four times denser: NOTES.md E21, E187), in a round's first pass from the origin on the loop whose equal-count cuts are
  * coarsest (a dense cluster's faces: E12; else halfway along the curve between two slices'
  * neighbouring points).  The colour boundaries lie between two slices' neighbouring
  * points (on that cell boundary, or halfway along the curve); when the mesh's tets cross

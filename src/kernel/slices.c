@@ -76,17 +76,31 @@ static long snap_cut(const uint64_t *pk, size_t np, size_t t, size_t tol)
  * with the static bound off).  Point i is "fine" when the keys of the 2 SPAN_W + 1 pending
  * points around it (cyclically) span fewer than fine_span keys -- a local density from the
  * keys alone, the same in every run -- and weighs W_FINE, else W_COARSE; fine_span 0: every
- * point weighs 1.  When all weights are equal the cuts are the equal-count ones. */
+ * point weighs 1.  When all weights are equal the cuts are the equal-count ones.
+ * "Very fine" (a span under fine_span >> VFINE_SHIFT, a spacing 2^(VFINE_SHIFT / 3) = 4 times
+ * under the static filter's scale): the static test decides no call there, so the filter's
+ * order stays static-first (conflict.h km_filter_order: a share left above 9/10) and every
+ * call pays both tests, where on the scans' fine points (a share between 1/3 and 9/10) it runs
+ * semi-static-first and pays one: W_VFINE (NOTES.md E187; the cluster's dense thread ran
+ * 5-8 % longer with 13). */
 #define SPAN_W 8
 #define BEST_ORIGIN_PARALLEL 65536  /* fewer pending points: the origin's search on one thread */
 #define W_COARSE 10
 #define W_FINE 13
+#define W_VFINE 14
+#define VFINE_SHIFT 6
 static unsigned point_weight(const uint64_t *pk, size_t np, size_t i, uint64_t fine_span)
 {
     if (fine_span == 0) return 1;
     const size_t lo = i >= SPAN_W ? i - SPAN_W : i + np - SPAN_W;
     const size_t hi = i + SPAN_W < np ? i + SPAN_W : i + SPAN_W - np;
-    return ((pk[hi] - pk[lo]) & KPAR_KEY_MASK) < fine_span ? W_FINE : W_COARSE;
+    const uint64_t span = (pk[hi] - pk[lo]) & KPAR_KEY_MASK;
+    return span < fine_span >> VFINE_SHIFT ? W_VFINE : span < fine_span ? W_FINE : W_COARSE;
+}
+
+unsigned kpar_point_weight(const uint64_t *pk, size_t np, size_t i, uint64_t fine_span)
+{
+    return point_weight(pk, np, i, fine_span);
 }
 
 /* goal[j] (j < nth): the weight before cut j, measured from the origin: j s with unit weights,
@@ -97,7 +111,9 @@ static uint64_t cut_goals(const uint64_t *pk, size_t np, int nth, uint64_t fine_
     uint64_t total = 0;
     for (size_t i = 0; fine_span && np > 2 * SPAN_W && i < np; i++)
         total += point_weight(pk, np, i, fine_span);
-    if (total == (uint64_t)np * W_COARSE || total == (uint64_t)np * W_FINE) total = 0;
+    if (total == (uint64_t)np * W_COARSE || total == (uint64_t)np * W_FINE ||
+        total == (uint64_t)np * W_VFINE)
+        total = 0;
     for (int j = 0; j < nth; j++)
         goal[j] = total ? total * (uint64_t)j / (uint64_t)nth
                         : (uint64_t)(np / (size_t)nth) * (uint64_t)j;

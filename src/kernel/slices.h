@@ -23,11 +23,16 @@ typedef struct kpar_cuts {
  * from the origin whose cuts are coarsest (a round's first pass).  prev: NULL, or with rotate
  * 1 the previous pass's ranges (on the same keys), whose slices' middles the cuts then take.
  * fine_span: 0, or (rotate 0 and 2) the key span under which 2 * 8 + 1 consecutive points
- * count as fine, costlier by 13/10 (kpar_fine_span), the cuts then balancing the weights.
+ * count as fine, costlier by 13/10, or by 14/10 under fine_span / 64 (kpar_fine_span), the
+ * cuts then balancing the weights.
  * tk, ti: scratch of np entries each. */
 void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate,
                  const kpar_cuts *prev, uint64_t fine_span, uint64_t *tk, uint32_t *ti,
                  size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0);
+
+/* The weight kpar_slices gives the pending point i of pk[0..np) (np > 16) for fine_span: 10,
+ * 13 (fine), 14 (very fine), or 1 when fine_span is 0 (slices.c point_weight). */
+unsigned kpar_point_weight(const uint64_t *pk, size_t np, size_t i, uint64_t fine_span);
 
 /* The fine_span of kpar_slices for keys with `key_bits` bits per axis on box[6] (min x, y, z,
  * max x, y, z), for a mesh whose static insphere bound is is_seps: the key volume of 2 * 8
