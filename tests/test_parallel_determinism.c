@@ -403,9 +403,11 @@ static void test_a_vertex_in_every_tet_does_not_stop_the_other_threads(void)
  * tets are now located by walking to the slice's first points before the pass: find_start
  * in parallel.c).  The equal-count cut still ran through the small cube (0.735); the cuts now
  * lie on Moore-cell boundaries with a free origin, and the small cube is one slice (0.971:
- * cut_on_cells in parallel.c, NOTES.md E12).  Specification: the same tets for every thread
- * count and order; with 2 threads the last round's first pass inserts more than 0.9 of its
- * points.  The
+ * cut_on_cells in parallel.c, NOTES.md E12).  The first pass's rebalancing (E186) cuts the
+ * rest of the slower thread's slice once more, and that cut defers a few percent more,
+ * depending on when the other thread finished (0.895 in one loaded run).  Specification: the
+ * same tets for every thread count and order; with 2 threads the last round's first pass
+ * inserts more than 0.85 of its points (the failures above: 0.424, 0.735).  The
  * sanitized builds, at 40k points, check the tets only (a smaller set did not show the
  * failure every time: 100k points, 0.33 in one run of five). */
 static void test_a_dense_cluster_inside_one_cell_keeps_both_threads_inserting(void)
@@ -421,7 +423,7 @@ static void test_a_dense_cluster_inside_one_cell_keeps_both_threads_inserting(vo
     gtet_mesh *m = with_two_threads(p, n, &st);
     TEST_REQUIRE(m != NULL, "uniform + dense cube fails");
     const gtet_round_stats *last = &st.rounds[st.num_rounds - 1];
-    TEST_CHECK(last->threads == 2 && last->alpha_first > 0.9,
+    TEST_CHECK(last->threads == 2 && last->alpha_first > 0.85,
                "last round (%llu points, %d threads): the first pass inserted %.3f of them",
                (unsigned long long)last->points, last->threads, last->alpha_first);
     gtet_mesh_free(&m);

@@ -66,7 +66,7 @@ static int check_case(size_t np, int nth, int rotate, uint64_t distinct, uint64_
     memcpy(orig, pk, np * sizeof *pk);
     size_t begin[256], end[256];
     uint64_t rel[256], bound0;
-    kpar_slices(pk, pts, np, nth, rotate, NULL, 0, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, nth, rotate, NULL, tk, ti, begin, end, rel, &bound0);
     int bad = 0;
 #define FAIL(...) do { if (!bad) TEST_CHECK(0, __VA_ARGS__); bad = 1; } while (0)
     size_t at = 0;
@@ -148,7 +148,7 @@ static void test_the_first_retry_cuts_elsewhere(void)
     for (size_t i = 0; i < np; i++) pk[i] = sorted[i] = (uint64_t)i * 1000003u, pts[i] = (uint32_t)i;
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, np, 2, 1, NULL, 0, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, 2, 1, NULL, tk, ti, begin, end, rel, &bound0);
     /* the cuts snap to Moore cells within 500 / 64 = 7 points of the equal counts */
     TEST_CHECK(pts[0] >= 243 && pts[0] <= 257 && pk[0] == sorted[pts[0]],
                "rotated start %llu (point %u), expected point 250 +- 7",
@@ -195,7 +195,7 @@ static void test_a_cluster_in_one_cube_is_one_slice(void)
     cluster_keys(pk, pts, N);
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, N, 2, 2, NULL, 0, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, N, 2, 2, NULL, tk, ti, begin, end, rel, &bound0);
     const size_t tol = N / 2 / 64, n0 = end[0] - begin[0];
     TEST_CHECK(n0 + 2 * tol >= N / 2 && n0 <= N / 2 + 2 * tol, "slices of %zu and %zu keys", n0,
                end[1] - begin[1]);
@@ -226,7 +226,7 @@ static void test_the_retry_after_a_free_origin_cuts_between_the_crowds(void)
     kpar_cuts prev = {.rel = {0, B1 - B0}, .bound0 = B0, .nth = 2};
     size_t begin[2], end[2];
     uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, N, 2, 1, &prev, 0, tk, ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, N, 2, 1, &prev, tk, ti, begin, end, rel, &bound0);
     int crowd[2][2] = {{0, 0}, {0, 0}}, wrong = 0;  /* [crowd][slice] */
     for (int k = 0; k < 2; k++)
         for (size_t i = begin[k]; i < end[k]; i++) {
@@ -239,61 +239,6 @@ static void test_the_retry_after_a_free_origin_cuts_between_the_crowds(void)
                crowd[0][1], crowd[1][0], crowd[1][1]);
     TEST_CHECK(end[0] - begin[0] == N / 2, "slices of %zu and %zu points", end[0] - begin[0],
                end[1] - begin[1]);
-}
-
-/* Cost-weighted cuts (NOTES.md E21).  The 40000 keys of the cluster test, and a fine_span
- * (2^40) under which the cluster's keys are fine (17 consecutive ones span about 2^36 16 /
- * 20000 keys) and the spread ones are not (about 2^63 16 / 20000): a cluster key weighs 13, a
- * spread one 10.  Specification: the two slices' weights differ by at most 2 cuts' snap
- * windows (4 tol keys of weight 13), and every point of slice k has colour k.  Equal counts
- * with the cluster whole (the cuts without weights) differ by 60000. */
-static void cuts_balance(uint64_t fine_span, long w_cluster)
-{
-    enum { N = 40000 };
-    static uint64_t pk[N], tk[N];
-    static uint32_t pts[N], ti[N];
-    cluster_keys(pk, pts, N);
-    size_t begin[2], end[2];
-    uint64_t rel[2], bound0;
-    kpar_slices(pk, pts, N, 2, 2, NULL, fine_span, tk, ti, begin, end, rel, &bound0);
-    long wt[2] = {0, 0};
-    int wrong = 0;
-    for (int k = 0; k < 2; k++)
-        for (size_t i = begin[k]; i < end[k]; i++) {
-            wt[k] += in_cluster(pk[i]) ? w_cluster : 10;
-            wrong += kpar_colour_of(pk[i], rel, bound0, 2) != k;
-        }
-    const long tol = N / 2 / 64;
-    TEST_CHECK(wrong == 0, "%d points have another slice's colour", wrong);
-    TEST_CHECK(labs(wt[0] - wt[1]) <= 4 * tol * w_cluster,
-               "fine_span 2^%d: slice weights %ld and %ld (%zu and %zu keys), cluster keys "
-               "weighing %ld", 63 - __builtin_clzll(fine_span), wt[0], wt[1],
-               end[0] - begin[0], end[1] - begin[1], w_cluster);
-}
-
-/* The same with the cluster's keys fine (17 of them span about 2^25.7 keys: under a fine_span
- * of 2^28, not under 2^28 >> 6) and very fine (under 2^40 >> 6, NOTES.md E187): their weights
- * are 13 and 14 (kpar_point_weight; the spread keys' 10), and the cuts balance them. */
-static void test_cuts_balance_the_weights_of_fine_and_coarse_keys(void)
-{
-    enum { N = 40000 };
-    static uint64_t pk[N];
-    static uint32_t pts[N];
-    cluster_keys(pk, pts, N);
-    const uint64_t spans[2] = {UINT64_C(1) << 28, UINT64_C(1) << 40};
-    const unsigned want[2] = {13, 14};
-    for (int j = 0; j < 2; j++) {
-        int bad = 0;
-        for (size_t i = 0; i < N; i++) {
-            const unsigned w = kpar_point_weight(pk, N, i, spans[j]);
-            /* the keys next to the cluster's ends see both kinds in their window */
-            const int edge = i + 8 < N && i >= 8 && in_cluster(pk[i - 8]) != in_cluster(pk[i + 8]);
-            bad += !edge && w != (in_cluster(pk[i]) ? want[j] : 10u);
-        }
-        TEST_CHECK(bad == 0, "fine_span 2^%d: %d keys without the weight %u (cluster) or 10",
-                   j ? 40 : 28, bad, want[j]);
-        cuts_balance(spans[j], (long)want[j]);
-    }
 }
 
 /* kpar_slices's origin search (a round's first pass, rotate 2) runs on the slices' threads
@@ -317,10 +262,10 @@ static void test_the_origin_search_gives_the_one_thread_answer(void)
             memcpy(pts1, pts, n * sizeof *pts);
             size_t b[256], e[256], b1[256], e1[256];
             uint64_t rel[256], rel1[256], bound0, bound1;
-            kpar_slices(pk, pts, n, nth, 2, NULL, 0, tk, ti, b, e, rel, &bound0);
+            kpar_slices(pk, pts, n, nth, 2, NULL, tk, ti, b, e, rel, &bound0);
 #pragma omp parallel num_threads(2)
 #pragma omp single
-            kpar_slices(pk1, pts1, n, nth, 2, NULL, 0, tk, ti, b1, e1, rel1, &bound1);
+            kpar_slices(pk1, pts1, n, nth, 2, NULL, tk, ti, b1, e1, rel1, &bound1);
             int same = bound0 == bound1 && !memcmp(pk, pk1, n * sizeof *pk) &&
                        !memcmp(pts, pts1, n * sizeof *pts);
             for (int k = 0; k < nth; k++) same &= b[k] == b1[k] && e[k] == e1[k] && rel[k] == rel1[k];
@@ -338,7 +283,6 @@ int main(void)
     TU_RUN(test_the_first_retry_cuts_elsewhere);
     TU_RUN(test_a_cluster_in_one_cube_is_one_slice);
     TU_RUN(test_the_retry_after_a_free_origin_cuts_between_the_crowds);
-    TU_RUN(test_cuts_balance_the_weights_of_fine_and_coarse_keys);
     TU_RUN(test_the_origin_search_gives_the_one_thread_answer);
     return tu_finish();
 }

@@ -49,6 +49,58 @@ static double det_scalar(double (*p)[3])
     return (cw * dab - dw * abc) + (aw * bcd - bw * cda);
 }
 
+#ifdef PRED_INSPHERE_PACKED4
+static long level_decided;
+
+/* The level filter (pred_insphere_filter_packed_lv) on the tuple for levels w around its
+ * largest translated coordinate (2^-3 .. 2^3 times the power of two above it) and none (w 0):
+ * where the scalar filter decides it gives the same sign; where it returns 0 it leaves the
+ * scalar's record and counts a miss, and the level moves to the power of two above the
+ * tuple's largest coordinate; it decides a call the scalar leaves only for a tuple whose maxima
+ * fail the scalar's guard (a unit below PRED_IS_LO: section 8 needs only the level's units).
+ * A level whose bound were not section 8's (sw of 2w for w) would give wrong signs on the
+ * near-co-spherical tuples. */
+static void compare_levels(double (*p)[3], double seps, int s, const double *ms)
+{
+    double X = 0, Y = 0, Z = 0;
+    for (int i = 0; i < 4; i++) {
+        X = fmax(X, fabs(p[i][0] - p[4][0]));
+        Y = fmax(Y, fabs(p[i][1] - p[4][1]));
+        Z = fmax(Z, fabs(p[i][2] - p[4][2]));
+    }
+    const double M = fmax(fmax(X, Y), Z), lo = fmin(fmin(X, Y), Z);
+    if (!(M > 0 && M < PRED_IS_HI)) return;
+    const double top = pred_pow2_above_(M);
+    for (int k = -4; k <= 3; k++) {
+        pred_is_level lv = {0.0, 0.0};
+        if (k > -4) {
+            lv.w = ldexp(top, k);
+            lv.sw = pred_insphere_static_eps(lv.w, lv.w, lv.w);
+        }
+        double ml[PRED_IS_NMINORS];
+        memset(ml, 0x5a, sizeof ml);
+        uint64_t misses = 0;
+        const int l = pred_insphere_filter_packed_lv(p[0], p[1], p[2], p[3], p[4], seps, &lv,
+                                                     ml, &misses);
+        level_decided += l != 0;
+        if (s != 0) {
+            TEST_CHECK(l == s, "level 2^%d of the top: %d against the scalar's %d (seps %a)", k,
+                       l, s, seps);
+        } else if (l != 0) {
+            TEST_CHECK(!(lo >= PRED_IS_LO), "level 2^%d decides %d where the scalar does not, "
+                       "with maxima %a %a %a", k, l, X, Y, Z);
+        } else {
+            TEST_CHECK(memcmp(ms, ml, sizeof ml) == 0, "level 2^%d: another record", k);
+        }
+        if (l == 0) {
+            TEST_CHECK(misses == 1 && lv.w == top,
+                       "level 2^%d undecided: %llu misses, level moved to %a (top %a)", k,
+                       (unsigned long long)misses, lv.w, top);
+        }
+    }
+}
+#endif
+
 static void compare(double (*p)[3], double seps)
 {
     double ms[PRED_IS_NMINORS], mp[PRED_IS_NMINORS], mf[PRED_IS_NMINORS];
@@ -60,6 +112,9 @@ static void compare(double (*p)[3], double seps)
     const int k = pred_insphere_filter_packed(p[0], p[1], p[2], p[3], p[4], seps, mp, &misses);
     const int f = pred_insphere_filter_packed_sf(p[0], p[1], p[2], p[3], p[4], seps, mf);
     const double ds = det_scalar(p), dp = pred_insphere_det_packed_(p[0], p[1], p[2], p[3], p[4]);
+#ifdef PRED_INSPHERE_PACKED4
+    compare_levels(p, seps, s, ms);
+#endif
     compared++;
     undecided += s == 0;
     TEST_CHECK(memcmp(&ds, &dp, sizeof ds) == 0 || (isnan(ds) && isnan(dp)),
@@ -77,6 +132,7 @@ static void compare(double (*p)[3], double seps)
                    mf[1], mf[2], mf[3], mf[4], mf[5]);
     }
 }
+
 
 #ifdef PRED_ORIENT3D_FACETS4
 static long facet_lanes, facet_undecided;
@@ -240,6 +296,9 @@ int main(void)
     printf("walk's lanes: %ld compared, %ld undecided\n", facet_lanes, facet_undecided);
 #endif
     printf("%ld comparisons, %ld undecided\n", compared, undecided);
+#ifdef PRED_INSPHERE_PACKED4
+    printf("level filter: %ld of its calls decided\n", level_decided);
+#endif
     return tu_finish();
 }
 

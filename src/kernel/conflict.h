@@ -28,12 +28,14 @@ __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const 
     const double *a = V + 3 * (size_t)v[0], *b = V + 3 * (size_t)v[1];
     const double *cc = V + 3 * (size_t)v[2], *d = V + 3 * (size_t)v[3];
     /* the filter inline (most calls stop here); the full chain counts its own call.  Its
-     * order, static test first or semi-static bound first, changes which branches run, never
-     * the answer nor the record (filter_packed.h pred_insphere_filter_packed_sf). */
+     * order, static test first or the thread's level first (or, without AVX2, the semi-static
+     * bound first), changes which branches run, never the answer (filter_packed.h
+     * pred_insphere_filter_packed_lv, pred_insphere_filter_packed_sf). */
     double minors[PRED_IS_NMINORS];
 #ifdef PRED_INSPHERE_PACKED
     int s = semi_first
-                ? pred_insphere_filter_packed_sf(a, b, cc, d, p, seps, minors)
+                ? pred_insphere_filter_packed_lv_or_(a, b, cc, d, p, seps, &c->level, minors,
+                                                     &c->static_misses)
                 : pred_insphere_filter_packed(a, b, cc, d, p, seps, minors, &c->static_misses);
 #else
     (void)semi_first;  /* one order only: the sampler counts no miss and never switches */
@@ -54,23 +56,21 @@ __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t 
 }
 
 /* The insphere filter's order for the next insertions.  The static test decides almost every
- * call on uniform points and is then one well-predicted branch; on surface samples their tets
- * are small against the box, the static test leaves a third to nine tenths of the calls to
- * the semi-static bound, and its branch goes either way at random: there the semi-static
- * bound first (a branch-free bound, one rarely taken branch) is faster (NOTES.md E169).
- * Where it leaves nearly every call (a sphere, a dense cluster) its branch is predictable
- * again and the static test costs two comparisons: static-first stays (E172).  Every
+ * call on uniform points and is then one well-predicted branch.  Where the mesh is finer than
+ * the box's static bound sees (surface samples, a dense cluster, uniform points past ~10M: the
+ * static test leaves a third to all of the calls), the level filter runs first (NOTES.md
+ * E188): a static bound for the thread's current level, a power of two above the tuples'
+ * translated coordinates, checked by four lane comparisons, which decides like the static test
+ * at the mesh's own scale; it replaced the semi-static-first order there (E169, E172).  Every
  * KM_ORDER_PERIOD insertions of a thread, KM_ORDER_SAMPLE of them run static-first and count
- * the calls the static test leaves; the next ones run semi-static-first when that share lies
- * in (KM_ORDER_SHARE_LO, KM_ORDER_SHARE_HI).  Insertions follow the Moore curve, so the
- * choice follows the density along it.  The answers are the same either way: the mesh never
- * depends on the choice. */
+ * the calls the static test leaves; the next ones run level-first when that share exceeds
+ * KM_ORDER_SHARE_LO.  (The AVX2 build's; the SSE2 one runs the semi-static bound first
+ * there.)  Insertions follow the Moore curve, so the choice follows the density along it.  The
+ * answers are the same either way: the mesh never depends on the choice. */
 #define KM_ORDER_SAMPLE 256u
 #define KM_ORDER_PERIOD 4096u
 #define KM_ORDER_SHARE_LO_NUM 1u   /* KM_ORDER_SHARE_LO = 1/3 */
 #define KM_ORDER_SHARE_LO_DEN 3u
-#define KM_ORDER_SHARE_HI_NUM 9u   /* KM_ORDER_SHARE_HI = 9/10 */
-#define KM_ORDER_SHARE_HI_DEN 10u
 void km_filter_order(kctx *c);
 
 /* locate.c: a ghost in conflict with p found by a walk over the hull from c->last_ghost, or

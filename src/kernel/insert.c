@@ -43,8 +43,7 @@ __attribute__((cold, noinline)) void km_filter_order(kctx *c)
     if (c->sampling) {  /* a sample ends: the order for the rest of the period */
         const uint64_t calls = c->cnt.insphere_calls - c->sample_calls0;
         const uint64_t miss = c->static_misses;
-        c->semi_first = KM_ORDER_SHARE_LO_DEN * miss > KM_ORDER_SHARE_LO_NUM * calls &&
-                        KM_ORDER_SHARE_HI_DEN * miss < KM_ORDER_SHARE_HI_NUM * calls;
+        c->semi_first = KM_ORDER_SHARE_LO_DEN * miss > KM_ORDER_SHARE_LO_NUM * calls;
         c->sampling = 0;
         c->order_left = KM_ORDER_PERIOD - KM_ORDER_SAMPLE;
     } else {            /* a period ends: sample static-first */

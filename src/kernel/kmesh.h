@@ -103,13 +103,14 @@ typedef struct kctx {
                             point), or UINT32_MAX (the walk met another thread's tet first: its
                             stop can be far from the point): the point's next pass may start
                             its walk there (parallel.c, NOTES.md E177) */
-    /* the insphere filter's order (conflict.h km_filter_order): semi_first set, the
-     * semi-static bound first, else the static test first; a sample of static-first
-     * insertions (sampling set) counts the calls the static test leaves undecided */
+    /* the insphere filter's order (conflict.h km_filter_order): semi_first set, the level
+     * filter first (without AVX2 the semi-static bound), else the static test first; a sample
+     * of static-first insertions (sampling set) counts the calls the static test leaves */
     uint8_t semi_first, sampling;
     uint8_t avx2;                 /* km_insert runs the AVX2 instances (insert_avx2.c) */
     uint32_t order_left;          /* insertions before the order is reconsidered */
     uint64_t static_misses, sample_calls0;
+    pred_is_level level;          /* the level filter's (pred_insphere_filter_packed_lv) */
 } kctx;
 
 static inline int km_is_ghost(const kmesh *m, uint32_t t) { return m->tv[4 * (size_t)t + 3] == KM_GHOST; }

@@ -6,8 +6,7 @@
  * the tight box computed once per run; on an enlarged and shifted box in later passes, where
  * only the vertices of the mesh are re-keyed), are sorted by key and cut into one slice per
  * thread, never between equal keys (slices.c): at the coarsest Moore-cell boundary within 1/64
- * of a slice of equal estimated cost (points denser than the static filter's scale weigh 13/10,
- * 14/10 four times denser: NOTES.md E21, E187), in a round's first pass from the origin on the loop whose equal-count cuts are
+ * of a slice of equal count, in a round's first pass from the origin on the loop whose equal-count cuts are
  * coarsest (a dense cluster's faces: E12; else halfway along the curve between two slices'
  * neighbouring points).  The colour boundaries lie between two slices' neighbouring
  * points (on that cell boundary, or halfway along the curve); when the mesh's tets cross
@@ -301,8 +300,8 @@ static void pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int 
      * (NOTES.md E101) */
     if (unsorted) sort_radix_pairs_grouped(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
     uint64_t rel[256], bound0;
-    kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, pass == 1 ? &P->cuts : NULL,
-                kpar_fine_span(box, m->ps.is_seps), P->tk, P->ti, begin, end, rel, &bound0);
+    kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, pass == 1 ? &P->cuts : NULL, P->tk,
+                P->ti, begin, end, rel, &bound0);
     memcpy(P->cuts.rel, rel, (size_t)nth * sizeof *rel);
     P->cuts.bound0 = bound0;
     P->cuts.nth = nth;

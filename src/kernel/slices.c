@@ -69,80 +69,38 @@ static long snap_cut(const uint64_t *pk, size_t np, size_t t, size_t tol)
     return best;
 }
 
-/* Cost-weighted cuts (NOTES.md E21).  A point costs more where the mesh is finer than the
- * static filter's scale: there the static bound of insphere (m->ps.is_seps, proofs/filters.md
- * section 8) never decides and every call takes the semi-static path (a half-cube set: the
- * dense cube's thread takes 1.25-1.35x the CPU of the sparse half's for equal counts; 1.01-1.10x
- * with the static bound off).  Point i is "fine" when the keys of the 2 SPAN_W + 1 pending
- * points around it (cyclically) span fewer than fine_span keys -- a local density from the
- * keys alone, the same in every run -- and weighs W_FINE, else W_COARSE; fine_span 0: every
- * point weighs 1.  When all weights are equal the cuts are the equal-count ones.
- * "Very fine" (a span under fine_span >> VFINE_SHIFT, a spacing 2^(VFINE_SHIFT / 3) = 4 times
- * under the static filter's scale): the static test decides no call there, so the filter's
- * order stays static-first (conflict.h km_filter_order: a share left above 9/10) and every
- * call pays both tests, where on the scans' fine points (a share between 1/3 and 9/10) it runs
- * semi-static-first and pays one: W_VFINE (NOTES.md E187; the cluster's dense thread ran
- * 5-8 % longer with 13). */
-#define SPAN_W 8
 #define BEST_ORIGIN_PARALLEL 65536  /* fewer pending points: the origin's search on one thread */
-#define W_COARSE 10
-#define W_FINE 13
-#define W_VFINE 14
-#define VFINE_SHIFT 6
-static unsigned point_weight(const uint64_t *pk, size_t np, size_t i, uint64_t fine_span)
+
+/* Equal counts: goal[j] (j < nth), the points before cut j measured from the origin.  (Cuts
+ * weighted by an estimated cost, E21 and E187, balanced the static filter's dearer calls on
+ * points finer than its scale; since the level filter, E188, those points cost what the others
+ * do, and the first pass's rebalancing, E186, takes up what the counts miss.) */
+static void cut_goals(size_t np, int nth, uint64_t goal[])
 {
-    if (fine_span == 0) return 1;
-    const size_t lo = i >= SPAN_W ? i - SPAN_W : i + np - SPAN_W;
-    const size_t hi = i + SPAN_W < np ? i + SPAN_W : i + SPAN_W - np;
-    const uint64_t span = (pk[hi] - pk[lo]) & KPAR_KEY_MASK;
-    return span < fine_span >> VFINE_SHIFT ? W_VFINE : span < fine_span ? W_FINE : W_COARSE;
+    for (int j = 0; j < nth; j++) goal[j] = (uint64_t)(np / (size_t)nth) * (uint64_t)j;
 }
 
-unsigned kpar_point_weight(const uint64_t *pk, size_t np, size_t i, uint64_t fine_span)
-{
-    return point_weight(pk, np, i, fine_span);
-}
-
-/* goal[j] (j < nth): the weight before cut j, measured from the origin: j s with unit weights,
- * j / nth of the total with uneven ones.  Returns the fine_span to weigh with (0: unit). */
-static uint64_t cut_goals(const uint64_t *pk, size_t np, int nth, uint64_t fine_span,
-                          uint64_t goal[])
-{
-    uint64_t total = 0;
-    for (size_t i = 0; fine_span && np > 2 * SPAN_W && i < np; i++)
-        total += point_weight(pk, np, i, fine_span);
-    if (total == (uint64_t)np * W_COARSE || total == (uint64_t)np * W_FINE ||
-        total == (uint64_t)np * W_VFINE)
-        total = 0;
-    for (int j = 0; j < nth; j++)
-        goal[j] = total ? total * (uint64_t)j / (uint64_t)nth
-                        : (uint64_t)(np / (size_t)nth) * (uint64_t)j;
-    return total ? fine_span : 0;
-}
-
-/* The cut targets tgt[j] = pos[j] mod np for the origin r: pos[j] is the first position from r
- * (counted on, unwrapped) where the weight of the points r .. pos[j] - 1 reaches goal[j].  acc
- * and pos are the sweep's state: from origin r to r + 1 the caller passes them on (each pos[j]
- * only moves forward), or acc zeros and pos[j] = r to start. */
-static void cut_targets(const uint64_t *pk, size_t np, int nth, uint64_t span,
-                        const uint64_t goal[], uint64_t acc[], size_t pos[], size_t tgt[])
+/* The cut targets tgt[j] = pos[j] mod np for the origin r: pos[j] is the position goal[j]
+ * points on from r (counted on, unwrapped).  acc and pos are the sweep's state: from origin
+ * r to r + 1 the caller passes them on (each pos[j] only moves forward), or acc zeros and
+ * pos[j] = r to start. */
+static void cut_targets(size_t np, int nth, const uint64_t goal[], uint64_t acc[], size_t pos[],
+                        size_t tgt[])
 {
     for (int j = 0; j < nth; j++) {
-        while (acc[j] < goal[j]) acc[j] += point_weight(pk, np, pos[j]++ % np, span);
+        pos[j] += (size_t)(goal[j] - acc[j]);
+        acc[j] = goal[j];
         tgt[j] = pos[j] % np;
     }
 }
 
-/* The origin r of the equal-count cuts (cut_targets with unit weights and goals) whose worst
- * snapped cut is coarsest, the nearest to 0 on the loop among r in [0, pos[1] of origin 0).
- * (Weights here too, choosing the origin of the weighted cuts, cut a dense cube at a finer
- * cell and deferred 4x more: E21 moves the cuts, not the origin.)  Origin 0 when its cuts reach level
+/* The origin r of the equal-count cuts (cut_targets) whose worst snapped cut is coarsest, the
+ * nearest to 0 on the loop among r in [0, pos[1] of origin 0).  Origin 0 when its cuts reach level
  * KEY_BITS - 1 (octant faces: only the origin's gap is coarser, so nothing beats it; uniform
  * points with 2 or 4 threads), without the search.  The search: the highest level within tol
  * of every gap x at once (van Herk / Gil-Werman: block-wise prefix and suffix maxima over the
  * gaps x - tol .. x + tol, blocks of w = 2 tol + 1), then each origin's worst cut; scratch
- * holds 3 np + 4 tol bytes.  With unit weights the cuts of origin r are at r + goal[j] (each
- * point weighs 1: cut_targets stops where the count from r reaches goal[j]), so every step
+ * holds 3 np + 4 tol bytes.  The cuts of origin r are at r + goal[j], so every step
  * is a loop over independent positions or blocks, run on `threads` threads; the best origin
  * is the one of the greatest score, then the least distance to 0, then the least r -- the
  * one an ascending scan keeping strict improvements finds -- whatever the thread count. */
@@ -156,11 +114,10 @@ static inline size_t ext_gap(size_t k, size_t tol, size_t np)
 static size_t best_origin(const uint64_t *pk, size_t np, int nth, size_t tol,
                           const uint64_t goal[], int8_t *scratch, int threads)
 {
-    const uint64_t span = 0;  /* unit weights */
     uint64_t b, acc[256] = {0};
     size_t pos[256] = {0}, tgt[256];
     int worst0 = KEY_BITS;
-    cut_targets(pk, np, nth, span, goal, acc, pos, tgt);
+    cut_targets(np, nth, goal, acc, pos, tgt);
     for (int j = 1; j < nth; j++) {
         const long g = snap_cut(pk, np, tgt[j], tol);
         const int l = g < 0 ? -1 : gap_level(pk, np, (size_t)g, &b);
@@ -247,31 +204,29 @@ static int retry_targets(const uint64_t *pk, size_t np, int nth, const kpar_cuts
 }
 
 /* Slices cut at the coarsest Moore-cell boundaries within slice / CUT_TOL points of the cut
- * targets (E12): equal weights (E21) from origin 0 (mode 0) or from the origin whose
- * equal-count cuts are coarsest (mode 2, a round's first pass: the cuts of a dense cluster that
- * holds a slice's worth of points are its cube's faces; the weights then move the cuts off
- * them, into the heavier side), or the first retry's targets (mode 1, equal counts: the
+ * targets (E12): equal counts from origin 0 (mode 0) or from the origin whose equal-count
+ * cuts are coarsest (mode 2, a round's first pass: the cuts of a dense cluster that holds a
+ * slice's worth of points are its cube's faces), or the first retry's targets (mode 1, equal counts: the
  * middles of the previous pass's slices' deferred points when prev is given for as many
  * threads, retry_targets; else half a slice in, E6).  The colour boundaries are the cells'
  * keys B of the gaps (gap_level), so colour regions are unions of cubes.  0 (nothing changed)
  * when a slice is too small for any freedom or a window holds only equal keys: the caller
  * then cuts by equal counts. */
 static int cut_on_cells(uint64_t *pk, uint32_t *pts, size_t np, int nth, int mode,
-                        const kpar_cuts *prev, uint64_t fine_span, uint64_t *tk, uint32_t *ti,
-                        size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0)
+                        const kpar_cuts *prev, uint64_t *tk, uint32_t *ti, size_t begin[],
+                        size_t end[], uint64_t rel[], uint64_t *bound0)
 {
     const size_t s = np / (size_t)nth, tol = s / CUT_TOL;
     if (tol == 0) return 0;
     size_t tgt[256];
     if (!(mode == 1 && prev && prev->nth == nth && retry_targets(pk, np, nth, prev, tgt))) {
         uint64_t goal[256] = {0}, acc[256] = {0};
-        cut_goals(pk, np, nth, 0, goal);
+        cut_goals(np, nth, goal);
         const size_t r = mode == 2 ? best_origin(pk, np, nth, tol, goal, (int8_t *)tk, nth)
                                    : mode == 1 ? s / 2 : 0;
-        const uint64_t span = cut_goals(pk, np, nth, mode == 1 ? 0 : fine_span, goal);
         size_t pos[256];
         for (int j = 0; j < nth; j++) pos[j] = r;
-        cut_targets(pk, np, nth, span, goal, acc, pos, tgt);
+        cut_targets(np, nth, goal, acc, pos, tgt);
     }
     size_t gap[256];
     for (int j = 0; j < nth; j++) {
@@ -315,10 +270,10 @@ static int cut_on_cells(uint64_t *pk, uint32_t *pts, size_t np, int nth, int mod
  * non-empty slice's boundary (slice 0 is empty when np < nth: the kernel never cuts so few
  * points; test_parallel_slices covers it). */
 void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate,
-                 const kpar_cuts *prev, uint64_t fine_span, uint64_t *tk, uint32_t *ti,
+                 const kpar_cuts *prev, uint64_t *tk, uint32_t *ti,
                  size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0)
 {
-    if (cut_on_cells(pk, pts, np, nth, rotate, prev, fine_span, tk, ti, begin, end, rel, bound0))
+    if (cut_on_cells(pk, pts, np, nth, rotate, prev, tk, ti, begin, end, rel, bound0))
         return;
     if (rotate == 1) {
         size_t off = np / (2 * (size_t)nth);
@@ -348,14 +303,4 @@ void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate,
     for (int k = 0; k < nth; k++)
         if (rel[k] <= KPAR_KEY_MASK) rel[k] = (rel[k] - b0) & KPAR_KEY_MASK;
     *bound0 = b0;
-}
-
-uint64_t kpar_fine_span(const double box[6], double is_seps)
-{
-    const double X = box[3] - box[0], Y = box[4] - box[1], Z = box[5] - box[2];
-    if (!(is_seps > 0 && is_seps < INFINITY && X > 0 && Y > 0 && Z > 0)) return 0;
-    const double h = pow(is_seps, 0.2);
-    const double span = 2 * SPAN_W * (h / X) * (h / Y) * (h / Z) * 0x1p63;
-    if (!(span >= 1)) return 0;
-    return span < 0x1p62 ? (uint64_t)span : UINT64_C(1) << 62;
 }

@@ -22,23 +22,11 @@ typedef struct kpar_cuts {
  * cuts from the first key, 1 half a slice further along the loop (a round's first retry), 2
  * from the origin whose cuts are coarsest (a round's first pass).  prev: NULL, or with rotate
  * 1 the previous pass's ranges (on the same keys), whose slices' middles the cuts then take.
- * fine_span: 0, or (rotate 0 and 2) the key span under which 2 * 8 + 1 consecutive points
- * count as fine, costlier by 13/10, or by 14/10 under fine_span / 64 (kpar_fine_span), the
- * cuts then balancing the weights.
+ * Slices of equal counts before the snapping (NOTES.md E188 ended the cost weights of E21).
  * tk, ti: scratch of np entries each. */
 void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate,
-                 const kpar_cuts *prev, uint64_t fine_span, uint64_t *tk, uint32_t *ti,
+                 const kpar_cuts *prev, uint64_t *tk, uint32_t *ti,
                  size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0);
-
-/* The weight kpar_slices gives the pending point i of pk[0..np) (np > 16) for fine_span: 10,
- * 13 (fine), 14 (very fine), or 1 when fine_span is 0 (slices.c point_weight). */
-unsigned kpar_point_weight(const uint64_t *pk, size_t np, size_t i, uint64_t fine_span);
-
-/* The fine_span of kpar_slices for keys with `key_bits` bits per axis on box[6] (min x, y, z,
- * max x, y, z), for a mesh whose static insphere bound is is_seps: the key volume of 2 * 8
- * points spaced h = is_seps^(1/5) apart, the spacing under which the static bound stops
- * deciding (|det| ~ h^5); 0 when is_seps is 0 or not finite or the box is flat. */
-uint64_t kpar_fine_span(const double box[6], double is_seps);
 
 /* The colour of a vertex with 63-bit key `key`: the largest k with rel[k] <= key measured from
  * bound0 along the loop. */

@@ -345,6 +345,53 @@ static inline int pred_insphere_filter_packed(const double *a, const double *b, 
 #endif
 }
 
+/* The smallest power of two above m (finite, m >= 0), or +inf past the largest. */
+static inline double pred_pow2_above_(double m)
+{
+    uint64_t u;
+    __builtin_memcpy(&u, &m, sizeof u);
+    u = (u & UINT64_C(0x7ff0000000000000)) + (UINT64_C(1) << 52);
+    double w;
+    __builtin_memcpy(&w, &u, sizeof w);
+    return w;
+}
+
+/* pred_insphere_filter_packed with a static test on the thread's level first: when every
+ * computed translated coordinate of the tuple lies below lv->w in magnitude, the static bound
+ * of a box of extents w, w, w (lv->sw) holds for it (proofs/filters.md section 8, X' = Y' = Z'
+ * = w), and it decides wherever the mesh is finer than the global box's bound (seps) sees.
+ * The same answer as pred_insphere_filter: a tuple inside w has maxima X, Y, Z <= w, so its
+ * semi-static eps <= sw (the same product chain, rounding monotone) and |det~| > sw decides
+ * the scalar filter too, with the sign of det~.  A call the level leaves is the static-first
+ * filter's; it counts a miss and moves the level to the power of two above its largest
+ * coordinate, so the next tuples of the cavity are judged at their own scale. */
+#if defined(__AVX2__)
+static inline int pred_insphere_filter_packed_lv(const double *a, const double *b,
+                                                 const double *c, const double *d,
+                                                 const double *e, double seps,
+                                                 pred_is_level *lv, double *minors,
+                                                 uint64_t *static_misses)
+{
+    pred_is_lanes4_ L;
+    const double det = pred_insphere_lanes4_(a, b, c, d, e, &L);
+    const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+    const __m256d m = _mm256_max_pd(_mm256_max_pd(_mm256_and_pd(L.X, mag), _mm256_and_pd(L.Y, mag)),
+                                    _mm256_and_pd(L.Z, mag));
+    const int inside =
+        _mm256_movemask_pd(_mm256_cmp_pd(m, _mm256_set1_pd(lv->w), _CMP_LT_OQ)) == 0xF;
+    const double t = inside ? pred_min_(lv->sw, seps) : seps;
+    if (det > t) return 1;
+    if (det < -t) return -1;
+    ++*static_misses;
+    const double M = pred_hmax4_(m);
+    if (M == M && M < PRED_IS_HI) {
+        lv->w = pred_pow2_above_(M);
+        lv->sw = pred_insphere_static_eps(lv->w, lv->w, lv->w);
+    }
+    return pred_insphere_packed4_rest_(&L, det, seps, minors);
+}
+#endif
+
 /* the semi-static-first decision from det~ and the maxima X, Y, Z (below) */
 static inline int pred_insphere_sf_decide_(double det, double X, double Y, double Z, double seps)
 {
@@ -394,6 +441,22 @@ static inline int pred_insphere_filter_packed_sf(const double *a, const double *
     return s;
 #endif
 }
+
+static inline int pred_insphere_filter_packed_lv_or_(const double *a, const double *b,
+                                                     const double *c, const double *d,
+                                                     const double *e, double seps,
+                                                     pred_is_level *lv, double *minors,
+                                                     uint64_t *static_misses)
+{
+#if defined(__AVX2__)
+    return pred_insphere_filter_packed_lv(a, b, c, d, e, seps, lv, minors, static_misses);
+#else
+    (void)lv;
+    (void)static_misses;
+    return pred_insphere_filter_packed_sf(a, b, c, d, e, seps, minors);
 #endif
+}
+#endif
+
 
 #endif
