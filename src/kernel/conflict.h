@@ -63,14 +63,20 @@ __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t 
  * translated coordinates, checked by four lane comparisons, which decides like the static test
  * at the mesh's own scale; it replaced the semi-static-first order there (E169, E172).  Every
  * KM_ORDER_PERIOD insertions of a thread, KM_ORDER_SAMPLE of them run static-first and count
- * the calls the static test leaves; the next ones run level-first when that share exceeds
- * KM_ORDER_SHARE_LO.  (The AVX2 build's; the SSE2 one runs the semi-static bound first
- * there.)  Insertions follow the Moore curve, so the choice follows the density along it.  The
- * answers are the same either way: the mesh never depends on the choice. */
+ * the calls the static test leaves; when that share exceeds KM_ORDER_SHARE_LO, KM_ORDER_SAMPLE
+ * more run level-first and count the calls the level and the static test both leave, and the
+ * rest of the period runs level-first unless that share exceeds KM_ORDER_SHARE_HI: points on
+ * a sphere, whose tuples are nearly co-spherical at every scale, leave both tests nearly every
+ * call, and there the static test first is one predictable branch (E172).  (The AVX2 build's;
+ * the SSE2 one runs the semi-static bound first where the AVX2 one runs the level, and counts
+ * the calls it leaves.)  Insertions follow the Moore curve, so the choice follows the
+ * density along it.  The answers are the same either way: the mesh never depends on it. */
 #define KM_ORDER_SAMPLE 256u
 #define KM_ORDER_PERIOD 4096u
 #define KM_ORDER_SHARE_LO_NUM 1u   /* KM_ORDER_SHARE_LO = 1/3 */
 #define KM_ORDER_SHARE_LO_DEN 3u
+#define KM_ORDER_SHARE_HI_NUM 9u   /* KM_ORDER_SHARE_HI = 9/10 */
+#define KM_ORDER_SHARE_HI_DEN 10u
 void km_filter_order(kctx *c);
 
 /* locate.c: a ghost in conflict with p found by a walk over the hull from c->last_ghost, or

@@ -40,12 +40,20 @@ gtet_status km_flush_block(kctx *c)
 /* conflict.h says what the sampler does and why */
 __attribute__((cold, noinline)) void km_filter_order(kctx *c)
 {
-    if (c->sampling) {  /* a sample ends: the order for the rest of the period */
-        const uint64_t calls = c->cnt.insphere_calls - c->sample_calls0;
-        const uint64_t miss = c->static_misses;
-        c->semi_first = KM_ORDER_SHARE_LO_DEN * miss > KM_ORDER_SHARE_LO_NUM * calls;
+    const uint64_t calls = c->cnt.insphere_calls - c->sample_calls0;
+    const uint64_t miss = c->static_misses;
+    if (c->sampling == 1 && KM_ORDER_SHARE_LO_DEN * miss > KM_ORDER_SHARE_LO_NUM * calls) {
+        /* the static test leaves more than a third: sample the level filter first */
+        c->semi_first = 1;
+        c->sampling = 2;
+        c->static_misses = 0;
+        c->sample_calls0 = c->cnt.insphere_calls;
+        c->order_left = KM_ORDER_SAMPLE;
+    } else if (c->sampling) {  /* a sample ends: the order for the rest of the period */
+        c->semi_first = c->sampling == 2 &&
+                        KM_ORDER_SHARE_HI_DEN * miss <= KM_ORDER_SHARE_HI_NUM * calls;
+        c->order_left = KM_ORDER_PERIOD - KM_ORDER_SAMPLE * c->sampling;
         c->sampling = 0;
-        c->order_left = KM_ORDER_PERIOD - KM_ORDER_SAMPLE;
     } else {            /* a period ends: sample static-first */
         c->semi_first = 0;
         c->sampling = 1;

@@ -134,9 +134,13 @@ static __attribute__((noinline, unused)) gtet_status km_walk_t(kctx *c, const do
 /* A tet in conflict with p (*t0): over the hull first when the last insertion was outside it,
  * else by the visibility walk from c->last; *t0 = UINT32_MAX in a parallel pass
  * when the walk met a tet not this thread's or ran out of steps (defer).  Inlined into
- * km_insert (one call a point less); semi_first as for km_conflicts_in. */
-static inline gtet_status km_find_conflict(kctx *c, const double *p, uint32_t *t0,
-                                           const int semi_first)
+ * km_insert (one call a point less), always: as a function shared by the two orders' instances
+ * its filter order became a test per call (u1M +2 %: NOTES.md E188); semi_first as for
+ * km_conflicts_in. */
+__attribute__((always_inline)) static inline gtet_status km_find_conflict(kctx *c,
+                                                                          const double *p,
+                                                                          uint32_t *t0,
+                                                                          const int semi_first)
 {
     if (__builtin_expect(c->last_ghost != UINT32_MAX, 0)) {
         *t0 = km_hull_search(c, p);

@@ -452,8 +452,9 @@ static inline int pred_insphere_filter_packed_lv_or_(const double *a, const doub
     return pred_insphere_filter_packed_lv(a, b, c, d, e, seps, lv, minors, static_misses);
 #else
     (void)lv;
-    (void)static_misses;
-    return pred_insphere_filter_packed_sf(a, b, c, d, e, seps, minors);
+    const int s = pred_insphere_filter_packed_sf(a, b, c, d, e, seps, minors);
+    *static_misses += s == 0;
+    return s;
 #endif
 }
 #endif
