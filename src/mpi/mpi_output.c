@@ -202,17 +202,6 @@ static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *v
     return 0;
 }
 
-/* the result's tets and neighbours from the compacted rows (see above); R->ptv, R->ptn are
- * handed over (NULL after); *nolid: the neighbours left GTET_MPI_NO_TET.  -1 out of memory
- * (R's arrays then still R's) */
-static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid, uint64_t *nolid)
-{
-    size_t own = res->num_tets;
-    uint64_t unused;
-    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, nolid) != 0) return -1;
-    return widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset, &unused);
-}
-
 /* can the block of a hold `bytes` where it lies (the room gtet_triangulate_wide leaves)? */
 static int has_room(void *a, size_t bytes)
 {
@@ -226,9 +215,9 @@ static int has_room(void *a, size_t bytes)
 }
 
 /* The result's room (NOTES.md E221): the pages above the compacted rows that the widening
- * writes, in R->ptn's block, then in R->ptv's, take the written pages of dead blocks instead of
- * fresh ones (mx_pages_move): the arrays the output no longer reads, and blocks of the heap's
- * free memory.  The blocks are kept until the widening is done (freed, their pages mapped
+ * writes, in R->ptv's block, then in R->ptn's, take the written pages of dead blocks instead of
+ * fresh ones (mx_pages_move): the arrays the output no longer reads (S, the sort's buffers, and
+ * once the tets are widened the vertex ids), and blocks of the heap's free memory.  The blocks are kept until the widening is done (freed, their pages mapped
  * afresh would be handed out again at once) and then freed.  With 4 KiB pages only (there a
  * fresh page is a fault, a zeroing and, on this kind of guest, a host fault: Q14), and not with
  * GTET_MPI_DONATE=off. */
@@ -256,7 +245,7 @@ static long lend_pages(lender *L, void *p, size_t bytes)
     /* the compacted rows hold the array's first 16 B an owned tet; what lies above them up to
      * the widened size is dead (kernel slots) or never written */
     const size_t live = 4 * L->own * sizeof(uint32_t), room = (4 * L->own + 1) * sizeof(uint64_t);
-    uint32_t *const to[2] = {L->R->ptn, L->R->ptv};
+    uint32_t *const to[2] = {L->R->ptv, L->R->ptn};
     long moved = 0;
     for (int k = 0; k < 2 && L->on && p; k++)
         if (has_room(to[k], room)) {
@@ -538,8 +527,18 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     R->scap = 0;
     /* the result over the local mesh's arrays, before the matching allocates anything that
      * could take the memory an array without room grows into (can_grow) */
-    uint64_t nolid = 0;
-    if (s == GTET_OK && widen_both(R, res, vid, &nolid) != 0)
+    uint64_t nolid = 0, unused;
+    if (s == GTET_OK && widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset, &unused) != 0)
+        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    /* the vertex ids and the used marks are dead now: their pages go under the neighbours' */
+    if (s == GTET_OK) {
+        if (lend(&L, vid, (R->ns + 1) * sizeof *vid) != 0 || lend(&L, X.used, R->ns + 1) != 0)
+            s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
+        vid = NULL;
+        X.used = NULL;
+    }
+    if (s == GTET_OK &&
+        widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, &nolid) != 0)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     lend_end(&L);
     if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, nolid, res);
