@@ -54,6 +54,12 @@ gtet_status mx_agree(mctx *c, gtet_status mine);
 gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
                         void **rbuf, size_t *rcnt, size_t *rtot, int ghost);
 
+/* mx_exchange where sbuf holds no records for this rank: the caller writes its scnt[rank]
+ * records into *rbuf itself, from record rcnt[0] + ... + rcnt[rank - 1] on (the partition: a
+ * rank's own points go straight into its tile, NOTES.md E223) */
+gtet_status mx_exchange_keep(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
+                             void **rbuf, size_t *rcnt, size_t *rtot, int ghost);
+
 double mx_now(void);
 /* vzeroupper where the CPU has AVX, before the MPI layer's floating-point loops (mpi_util.c) */
 void mx_upper_clean(void);
