@@ -217,8 +217,9 @@ static int has_room(void *a, size_t bytes)
 /* The result's room (NOTES.md E221): the pages above the compacted rows that the widening
  * writes, in R->ptv's block, then in R->ptn's, take the written pages of dead blocks instead of
  * fresh ones (mx_pages_move): the arrays the output no longer reads (S, the sort's buffers, and
- * once the tets are widened the vertex ids), and blocks of the heap's free memory.  The blocks are kept until the widening is done (freed, their pages mapped
- * afresh would be handed out again at once) and then freed.  With 4 KiB pages only (there a
+ * once the tets are widened the vertex ids), and blocks of the heap's free memory.  The
+ * blocks are kept until the widening is done (freed, their pages mapped afresh would be handed
+ * out again at once) and then freed.  With 4 KiB pages only (there a
  * fresh page is a fault, a zeroing and, on this kind of guest, a host fault: Q14), and not with
  * GTET_MPI_DONATE=off. */
 #define LEND_MAX 64

@@ -63,7 +63,8 @@ long mx_pages_move(void *from, size_t fbytes, void *to, size_t tbytes)
     if (!nf || !nt) return 0;
     unsigned char *vf = malloc(nf), *vt = malloc(nt);
     long moved = 0;
-    if (!vf || !vt || mincore((void *)fa, nf * pg, vf) != 0 || mincore((void *)ta, nt * pg, vt) != 0)
+    if (!vf || !vt || mincore((void *)fa, nf * pg, vf) != 0 ||
+        mincore((void *)ta, nt * pg, vt) != 0)
         goto done;
     for (size_t i = 0, j = 0;;) {
         while (i < nf && !(vf[i] & 1)) i++;   /* the next written page of `from` */
