@@ -15,7 +15,7 @@ if(NOT MPI_C_FOUND)
 endif()
 
 set(_gtet_mpi_dir ${CMAKE_CURRENT_LIST_DIR})
-add_library(gigatet_mpi STATIC ${_gtet_mpi_dir}/mpi_util.c ${_gtet_mpi_dir}/mpi_ids.c
+add_library(gigatet_mpi STATIC ${_gtet_mpi_dir}/mpi_util.c ${_gtet_mpi_dir}/mpi_pages.c ${_gtet_mpi_dir}/mpi_ids.c
             ${_gtet_mpi_dir}/mpi_partition.c ${_gtet_mpi_dir}/mpi_query.c ${_gtet_mpi_dir}/mpi_lift.c ${_gtet_mpi_dir}/mpi_far.c ${_gtet_mpi_dir}/mpi_ghosts.c ${_gtet_mpi_dir}/mpi_patch.c ${_gtet_mpi_dir}/mpi_cavity.c
             ${_gtet_mpi_dir}/mpi_output.c ${_gtet_mpi_dir}/mpi_triangulate.c ${_gtet_mpi_dir}/mpi_check.c)
 target_include_directories(gigatet_mpi PUBLIC ${_gtet_mpi_dir} ${GTET_INCLUDE_DIRS})

@@ -54,9 +54,25 @@ gtet_status mx_agree(mctx *c, gtet_status mine);
 gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
                         void **rbuf, size_t *rcnt, size_t *rtot, int ghost);
 
+/* mx_exchange where sbuf holds no records for this rank: the caller writes its scnt[rank]
+ * records into *rbuf itself, from record rcnt[0] + ... + rcnt[rank - 1] on (the partition: a
+ * rank's own points go straight into its tile, NOTES.md E223) */
+gtet_status mx_exchange_keep(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
+                             void **rbuf, size_t *rcnt, size_t *rtot, int ghost);
+
 double mx_now(void);
 /* vzeroupper where the CPU has AVX, before the MPI layer's floating-point loops (mpi_util.c) */
 void mx_upper_clean(void);
+
+/* The written whole pages of [from, from + fbytes) moved, in address order, onto the pages of
+ * [to, to + tbytes) never written (mremap; fresh zero pages mapped where they were), so that
+ * writing `to` takes no fresh memory (mpi_pages.c, NOTES.md E221).  Both ranges wholly the
+ * caller's and inside blocks it owns (the allocator's own words lie outside them); afterwards
+ * `from` holds zeros or its old bytes page by page and the moved pages of `to` from's old bytes:
+ * for an array that is dead and one about to be overwritten.  The pages moved; 0 where the
+ * system cannot (nothing changed, or `to` partly moved); -1 when `from` could not be mapped
+ * again (its block must not be used, nor freed). */
+long mx_pages_move(void *from, size_t fbytes, void *to, size_t tbytes);
 
 /* a test switch from the environment: -1 for "off" or "0", 1 for "on" or "1", else 0 */
 int mx_env_mode(const char *name);

@@ -8,6 +8,7 @@
 #include <malloc.h>
 #endif
 
+#include "base/base.h"
 #include "mesh/mesh.h"
 #include "mpi/mpi_internal.h"
 
@@ -201,15 +202,96 @@ static int widen_one(uint32_t **a, uint64_t **out, size_t own, const uint64_t *v
     return 0;
 }
 
-/* the result's tets and neighbours from the compacted rows (see above); R->ptv, R->ptn are
- * handed over (NULL after); *nolid: the neighbours left GTET_MPI_NO_TET.  -1 out of memory
- * (R's arrays then still R's) */
-static int widen_both(run *R, gtet_mpi_result *res, const uint64_t *vid, uint64_t *nolid)
+/* can the block of a hold `bytes` where it lies (the room gtet_triangulate_wide leaves)? */
+static int has_room(void *a, size_t bytes)
 {
-    size_t own = res->num_tets;
-    uint64_t unused;
-    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, nolid) != 0) return -1;
-    return widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset, &unused);
+#if defined(__GLIBC__)
+    return a && malloc_usable_size(a) >= bytes;
+#else
+    (void)a;
+    (void)bytes;
+    return 0;
+#endif
+}
+
+/* The result's room (NOTES.md E221): the pages above the compacted rows that the widening
+ * writes, in R->ptv's block, then in R->ptn's, take the written pages of dead blocks instead of
+ * fresh ones (mx_pages_move): the arrays the output no longer reads (S, the sort's buffers, and
+ * once the tets are widened the vertex ids), and blocks of the heap's free memory.  The
+ * blocks are kept until the widening is done (freed, their pages mapped afresh would be handed
+ * out again at once) and then freed.  With 4 KiB pages only (there a
+ * fresh page is a fault, a zeroing and, on this kind of guest, a host fault: Q14), and not with
+ * GTET_MPI_DONATE=off. */
+#define LEND_MAX 64
+typedef struct lender {
+    const run *R;
+    size_t own;
+    int on;
+    void *blk[LEND_MAX];      /* the blocks lent, freed by lend_end */
+    size_t n;
+} lender;
+
+static void lend_init(lender *L, const run *R, size_t own)
+{
+    L->R = R;
+    L->own = own;
+    L->n = 0;
+    L->on = mx_env_mode("GTET_MPI_DONATE") >= 0 && base_page_mode() == BASE_PAGES_SMALL;
+}
+
+/* block p of `bytes` lends its written pages to the room; pages moved, -1 when p could not be
+ * mapped again (it is then left alone: a leak, not a fault) */
+static long lend_pages(lender *L, void *p, size_t bytes)
+{
+    /* the compacted rows hold the array's first 16 B an owned tet; what lies above them up to
+     * the widened size is dead (kernel slots) or never written */
+    const size_t live = 4 * L->own * sizeof(uint32_t), room = (4 * L->own + 1) * sizeof(uint64_t);
+    uint32_t *const to[2] = {L->R->ptv, L->R->ptn};
+    long moved = 0;
+    for (int k = 0; k < 2 && L->on && p; k++)
+        if (has_room(to[k], room)) {
+            long r = mx_pages_move(p, bytes, (char *)to[k] + live, room - live);
+            if (r < 0) return -1;
+            moved += r;
+        }
+    return moved;
+}
+
+/* the dead block p: its pages lent, the block kept until lend_end (freed now when nothing was
+ * lent or the list is full).  -1 as lend_pages */
+static int lend(lender *L, void *p, size_t bytes)
+{
+    long r = lend_pages(L, p, bytes);
+    if (r < 0) return -1;
+    if (r > 0 && L->n < LEND_MAX)
+        L->blk[L->n++] = p;
+    else
+        free(p);
+    return 0;
+}
+
+/* the heap's free memory lent: blocks of 64 MiB, halved whenever one has no written page to
+ * lend (it came from fresh memory, or the room is full), down to 256 KiB.  -1 as lend_pages */
+static int lend_free_memory(lender *L)
+{
+    for (size_t sz = (size_t)64 << 20; L->on && sz >= ((size_t)256 << 10) && L->n < LEND_MAX;) {
+        void *p = malloc(sz);
+        long r = p ? lend_pages(L, p, sz) : 0;
+        if (r < 0) return -1;
+        if (r > 0) {
+            L->blk[L->n++] = p;
+        } else {
+            free(p);
+            sz /= 2;
+        }
+    }
+    return 0;
+}
+
+static void lend_end(lender *L)
+{
+    for (size_t i = 0; i < L->n; i++) free(L->blk[i]);
+    L->n = 0;
 }
 
 /* what only the rounds read (the sets of ids held and sent, the tile grid, the last round's
@@ -329,7 +411,7 @@ done:
 
 /* the tile's vertices and the vertices the owned tets use (used[i]: local vertex i), listed by
  * vertex id.  Collective; the agreed status */
-static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *res)
+static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *res, lender *L)
 {
     mctx *c = &R->c;
     size_t m = R->m;
@@ -361,8 +443,8 @@ static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *r
         if (sort_used(R, a, b, w, used, res->used_vertices) != 0)
             s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     }
-    free(a);
-    free(b);
+    if (lend(L, a, (w + 1) * sizeof *a) != 0 || lend(L, b, (w + 1) * sizeof *b) != 0)
+        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
     return mx_agree(c, s);
 }
 
@@ -378,6 +460,8 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     uint32_t *tv = R->ptv, *nb = R->ptn;
     size_t m = R->m;
     outx X = {NULL, NULL, NULL, {NULL, 0, 0, sizeof(frec)}, {NULL, 0, 0, sizeof(uint64_t)}};
+    lender L;
+    lend_init(&L, R, 0);
     /* each local tet's index among the owned ones (NOLID: not owned); 4 B, as the neighbour
      * loop reads it at random */
     X.lid = mx_malloc((nt + 1) * sizeof *X.lid);
@@ -433,14 +517,34 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     }
     free(X.lid);
     X.lid = NULL;
+    /* the vertices first: their arrays take the heap's free memory, and then S is dead: its
+     * pages and the sort's lie under the result's room when it is widened (E221) */
+    if ((s = mx_agree(c, s)) != GTET_OK) goto done;
+    lend_init(&L, R, own);
+    if ((s = out_vertices(R, X.used, res, &L)) != GTET_OK) goto done;
+    if (lend(&L, R->sp, R->scap * sizeof *R->sp) != 0 || lend_free_memory(&L) != 0)
+        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
+    R->sp = NULL;
+    R->scap = 0;
     /* the result over the local mesh's arrays, before the matching allocates anything that
-     * could take the memory the lower array grows into */
-    uint64_t nolid = 0;
-    if (s == GTET_OK && widen_both(R, res, vid, &nolid) != 0)
+     * could take the memory an array without room grows into (can_grow) */
+    uint64_t nolid = 0, unused;
+    if (s == GTET_OK && widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset, &unused) != 0)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    /* the vertex ids and the used marks are dead now: their pages go under the neighbours' */
+    if (s == GTET_OK) {
+        if (lend(&L, vid, (R->ns + 1) * sizeof *vid) != 0 || lend(&L, X.used, R->ns + 1) != 0)
+            s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
+        vid = NULL;
+        X.used = NULL;
+    }
+    if (s == GTET_OK &&
+        widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, &nolid) != 0)
+        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    lend_end(&L);
     if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, nolid, res);
-    if (s == GTET_OK) s = out_vertices(R, X.used, res);
 done:
+    lend_end(&L);
     free(vid);
     free(X.lid);
     free(X.used);

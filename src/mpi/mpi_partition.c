@@ -78,7 +78,7 @@ static void part_point(const run *R, size_t i, mpt *p)
 gtet_status mx_step_partition(run *R)
 {
     mctx *c = &R->c;
-    int P = c->size;
+    int P = c->size, me = c->rank;
     gtet_status s = GTET_OK;
     size_t S = 2048 * (size_t)P;
     if (S > ((size_t)1 << 20)) S = (size_t)1 << 20;
@@ -130,18 +130,24 @@ gtet_status mx_step_partition(run *R)
         dst[i] = mx_kd_rank(R, p.x);
         scnt[dst[i]]++;
     }
-    for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + scnt[q];
-    for (size_t i = 0; i < nf; i++) part_point(R, i, &sb[pos[dst[i]]++]);
-    /* the first occurrences are in sb now and no later step reads them: their block can take
-     * the tile the exchange receives instead of fresh memory (NOTES.md Q14, E121) */
-    free(R->fp);
-    R->fp = NULL;
+    /* the points for other ranks in sb by rank; this rank's own go straight into its tile,
+     * in the same order (NOTES.md E223: half the send buffer and a copy at np 2) */
+    for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + (q == me ? 0 : scnt[q]);
+    for (size_t i = 0; i < nf; i++)
+        if (dst[i] != me) part_point(R, i, &sb[pos[dst[i]]++]);
     {
         void *r;
-        if ((s = mx_exchange(c, sb, scnt, sizeof(mpt), &r, rcnt, &R->m, 0)) != GTET_OK)
+        if ((s = mx_exchange_keep(c, sb, scnt, sizeof(mpt), &r, rcnt, &R->m, 0)) != GTET_OK)
             goto done;
         R->tile = r;
+        size_t at = 0;
+        for (int q = 0; q < me; q++) at += rcnt[q];
+        for (size_t i = 0; i < nf; i++)
+            if (dst[i] == me) part_point(R, i, &R->tile[at++]);
     }
+    /* no later step reads the first occurrences (dedup's path) */
+    free(R->fp);
+    R->fp = NULL;
     double bb[7] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY, 0};
     /* the points are finite (validated): plain comparisons, where fmin and fmax were calls
      * (NOTES.md E207) */

@@ -277,7 +277,15 @@ static gtet_status grid_pyramid(run *R)
     return GTET_OK;
 }
 
-#define GPF 16
+/* the tile grid's cell of a tile point */
+static size_t tile_cell(const grid *G, const double *x)
+{
+    return ((size_t)cell_of(G, 2, x[2]) * (size_t)G->g[1] + (size_t)cell_of(G, 1, x[1])) *
+               (size_t)G->g[0] + (size_t)cell_of(G, 0, x[0]);
+}
+
+/* mx_grid_build's first pass: at most this many runs of consecutive cells */
+#define CELL_RUNS 1024
 gtet_status mx_grid_build(run *R)
 {
     grid *G = &R->gr;
@@ -313,30 +321,47 @@ gtet_status mx_grid_build(run *R)
         free(cid);
         return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
     }
-    for (size_t i = 0; i < m; i++) {
-        const double *x = R->tile[i].x;
-        size_t ci = ((size_t)cell_of(G, 2, x[2]) * (size_t)G->g[1] + (size_t)cell_of(G, 1, x[1])) *
-                        (size_t)G->g[0] + (size_t)cell_of(G, 0, x[0]);
-        cid[i] = (uint32_t)ci;
-        G->start[ci + 1]++;
-    }
-    for (size_t ci = 0; ci < cells; ci++) G->start[ci + 1] += G->start[ci];
     /* the tile itself in cell order, written as S's first m points: cell ci holds S's points
      * start[ci] .. start[ci + 1] - 1, which answers scan in memory order (32 B records at random
      * through an index were the answers' largest cost before); S holds the tile from here on,
-     * so R->tile goes (one copy of the tile in memory, not two) */
-    for (size_t i = 0; i < m; i++) {
-        /* each record lands at random (a write miss): the slot of the record GPF on is asked
-         * for now (exact unless its cell comes up again before it: then a line off, harmless),
-         * NOTES.md E208 */
-        if (i + GPF < m) __builtin_prefetch(&R->sp[G->start[cid[i + GPF]]], 1);
-        R->sp[G->start[cid[i]]++] = R->tile[i];
+     * so R->tile goes (one copy of the tile in memory, not two).  Two stable passes (NOTES.md
+     * E222): by runs of 2^sh consecutive cells, at most CELL_RUNS of them, whose counts and write
+     * positions the caches hold (one pass straight to the cells counted and wrote each record at
+     * random, a miss each: E208); then each run's records, copied into the tile's block,
+     * counted and written to their cells, all within the run's span of S and of start[].  A
+     * cell's points keep the tile's order either way. */
+    int sh = 0;
+    while ((cells - 1) >> sh >= CELL_RUNS) sh++;
+    size_t runs = ((cells - 1) >> sh) + 1;
+    size_t *rp = mx_calloc(runs + 1, sizeof *rp);
+    if (!rp) {
+        free(cid);
+        return mx_fail(&R->c, GTET_ERR_OUT_OF_MEMORY, "out of memory (tile grid)");
     }
+    for (size_t i = 0; i < m; i++) {
+        size_t ci = tile_cell(G, R->tile[i].x);
+        cid[i] = (uint32_t)ci;
+        rp[(ci >> sh) + 1]++;
+    }
+    for (size_t b = 0; b < runs; b++) rp[b + 1] += rp[b];
+    for (size_t i = 0; i < m; i++) R->sp[rp[cid[i] >> sh]++] = R->tile[i];
+    free(cid);
+    /* rp[b] is run b's end now; start[] counted, summed and advanced run by run: start[c0],
+     * the run's first, is final when its run begins */
+    for (size_t b = 0, lo = 0; b < runs; b++) {
+        size_t hi = rp[b], len = hi - lo, c0 = b << sh, c1 = c0 + ((size_t)1 << sh);
+        if (c1 > cells) c1 = cells;
+        memcpy(R->tile, R->sp + lo, len * sizeof *R->tile);
+        for (size_t i = 0; i < len; i++) G->start[tile_cell(G, R->tile[i].x) + 1]++;
+        for (size_t c = c0; c < c1; c++) G->start[c + 1] += G->start[c];
+        for (size_t i = 0; i < len; i++) R->sp[G->start[tile_cell(G, R->tile[i].x)]++] = R->tile[i];
+        lo = hi;
+    }
+    free(rp);
     free(R->tile);
     R->tile = NULL;
     for (size_t ci = cells; ci > 0; ci--) G->start[ci] = G->start[ci - 1];
     G->start[0] = 0;
-    free(cid);
     return cell_boxes(R, cells);
 }
 

@@ -26,7 +26,8 @@
  * The steps live in: mpi_ids.c (1-3), mpi_partition.c (4), mpi_ghosts.c (5-6, with the local
  * set and its triangulation), mpi_patch.c (a later round's cavity re-triangulation, D9),
  * mpi_query.c (the queries' geometry and their answers),
- * mpi_output.c (7); mpi_internal.h declares what they share.
+ * mpi_output.c (7, with mpi_pages.c: the result's room on the written pages of dead blocks);
+ * mpi_internal.h declares what they share.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>

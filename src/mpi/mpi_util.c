@@ -143,12 +143,13 @@ gtet_status mx_agree(mctx *c, gtet_status mine)
     return c->err.status;
 }
 
-gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
-                        void **rbuf, size_t *rcnt, size_t *rtot, int ghost)
+/* mx_exchange, and with `keep` mx_exchange_keep */
+static gtet_status exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
+                            void **rbuf, size_t *rcnt, size_t *rtot, int ghost, int keep)
 {
     *rbuf = NULL;
     *rtot = 0;
-    int P = c->size;
+    int P = c->size, me = c->rank;
     gtet_status s = GTET_OK;
     size_t tot = 0;
     for (int q = 0; q < P; q++) {
@@ -158,12 +159,13 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
                         c->rank, rsize);
             break;
         }
-        c->sc[q] = (int)scnt[q];
+        c->sc[q] = keep && q == me ? 0 : (int)scnt[q];
         c->sd[q] = (int)tot;
-        tot += scnt[q];
+        tot += (size_t)c->sc[q];
     }
     if ((s = mx_agree(c, s)) != GTET_OK) return s;
     MPI_Alltoall(c->sc, 1, MPI_INT, c->rc, 1, MPI_INT, c->comm);
+    if (keep) c->rc[me] = (int)scnt[me];   /* room for them; not transferred */
     size_t rt = 0;
     for (int q = 0; q < P; q++) {
         rcnt[q] = (size_t)c->rc[q];
@@ -190,6 +192,7 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
     MPI_Type_contiguous((int)rsize, MPI_BYTE, &t);
     MPI_Type_commit(&t);
     static const char dummy[1];
+    if (keep) c->rc[me] = 0;
     MPI_Alltoallv(sbuf ? sbuf : dummy, c->sc, c->sd, t, buf, c->rc, c->rd, t, c->comm);
     MPI_Type_free(&t);
     uint64_t bytes = 0;
@@ -200,6 +203,18 @@ gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rs
     *rbuf = buf;
     *rtot = rt;
     return GTET_OK;
+}
+
+gtet_status mx_exchange(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
+                        void **rbuf, size_t *rcnt, size_t *rtot, int ghost)
+{
+    return exchange(c, sbuf, scnt, rsize, rbuf, rcnt, rtot, ghost, 0);
+}
+
+gtet_status mx_exchange_keep(mctx *c, const void *sbuf, const size_t *scnt, size_t rsize,
+                             void **rbuf, size_t *rcnt, size_t *rtot, int ghost)
+{
+    return exchange(c, sbuf, scnt, rsize, rbuf, rcnt, rtot, ghost, 1);
 }
 
 /* ------------------------------------------------------------------------------------------ */
