@@ -71,11 +71,6 @@
  * and roll back every point before the round goes serial, slower than one thread (NOTES.md
  * E3).  Deferring is always allowed (O7, T5). */
 #define GIVE_UP_PROBE 16
-/* A round's first pass stops once a thread has done its slice; a thread then leaves the rest
- * of its slice to the rebalancing (pass_parallel) only when at least this many points are
- * left, else it goes on: a shorter rest costs less than the rebalancing's barrier, recolouring
- * and new cut (NOTES.md E186). */
-#define REBALANCE_MIN 4096
 size_t kpar_test_stop_after = 0;
 #define GIVE_UP_MIN 1024
 #define GIVE_UP_RATE 8
@@ -368,7 +363,7 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
 #pragma omp atomic read
             stopped = *stop;
         }
-        if (stopped && e - i >= REBALANCE_MIN) break;  /* the rest goes to the rebalancing */
+        if (stopped && e - i >= KPAR_REBALANCE_MIN) break;  /* the rest goes to the rebalancing */
         if (stop && kpar_test_stop_after && tried == kpar_test_stop_after &&
             c->mine == 0) {
 #pragma omp atomic write
@@ -416,7 +411,7 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
     }
     if (stop && i == e && have_start && !give_up && !c->out_of_room) {
 #pragma omp atomic write
-        *stop = 1;  /* this slice is done: the others leave their long rests (REBALANCE_MIN) */
+        *stop = 1;  /* this slice is done: the others leave their long rests (KPAR_REBALANCE_MIN) */
     }
     *nd_out = nd;
     *tried_out = tried;
@@ -465,96 +460,10 @@ static gtet_status pass_region(kpar *P, uint32_t *pts, const size_t begin[], con
     return (gtet_status)status;
 }
 
-/* The Moore-cell boundary between the keys x != y that follow each other on the loop: the
- * coarsest cell boundary B with x < B <= y, 0 when the loop's origin lies between them (as
- * slices.c gap_level), so that colour regions stay unions of cubes. */
-static uint64_t cell_bound(uint64_t x, uint64_t y)
-{
-    if (y < x) return 0;
-    const int h = 63 - __builtin_clzll(x ^ y);
-    return y & ~((UINT64_C(1) << (h / 3 * 3)) - 1);
-}
-
-/* Where a rest pk[lo..hi) (hi - lo >= 2) is cut: the gap (between positions i - 1 and i) of
- * the coarsest Moore cell within (hi - lo) / REST_TOL of the middle, the nearest to it among
- * those (a coarse cell's faces meet fewer tets than a fine staircase: fewer points deferred
- * at the cut); hi when every gap there lies between equal keys (O1: never cut between them). */
-#define REST_TOL 16
-static size_t rest_cut(const uint64_t *pk, size_t lo, size_t hi)
-{
-    const size_t t = lo + (hi - lo) / 2, tol = (hi - lo) / REST_TOL;
-    size_t best = hi;
-    int level = -1;
-    for (size_t d = 0; d <= tol; d++)
-        for (int side = 0; side < 2 - (d == 0); side++) {
-            const size_t i = side ? t - d : t + d;
-            if (i <= lo || i >= hi || pk[i] == pk[i - 1]) continue;
-            const int l = pk[i] < pk[i - 1] ? 64 : (63 - __builtin_clzll(pk[i] ^ pk[i - 1])) / 3;
-            if (l > level) level = l, best = i;
-        }
-    return best;
-}
-
-/* The rebalancing of a round's first pass (NOTES.md E186).  The pass stopped when a thread had
- * inserted its whole slice; thread k left its rest L_k = pts[stop_at[k] .. end[k]) untried
- * (in key order: a tail of its slice along the curve).  Each rest is cut in two at a Moore
- * cell boundary: thread k keeps the first half, the next thread on the loop (k + 1 mod nth,
- * whose slice starts where L_k ends) takes the second half, and the colour boundary between
- * them moves back to the cut, so that both halves are their threads' (O1).  Thread k's list
- * in ti: its own first half, then (a run start, E100) the second half of L_{k-1}.  Returns 0
- * (nothing changed) when no rest is long enough to cut. */
-static int rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth,
-                         const size_t end[], const size_t stop_at[], const uint64_t *keys,
-                         int sh, size_t nmesh, size_t b2[], size_t e2[])
-{
-    size_t mid[256];
-    uint64_t nb[256];  /* the new boundaries, relative to the old bound0 */
-    int cut = 0;
-    for (int k = 0; k < nth; k++) {
-        mid[k] = end[k] - stop_at[k] >= REBALANCE_MIN ? rest_cut(pk, stop_at[k], end[k]) : end[k];
-        cut |= mid[k] < end[k];
-    }
-    for (int k = 0; k < nth; k++)  /* an empty slice's range (kpar_slices): not cut here */
-        if (P->cuts.rel[k] > KPAR_KEY_MASK) cut = 0;
-    if (!cut) return 0;
-    const uint64_t b0 = P->cuts.bound0;
-    for (int k = 0; k < nth; k++) {
-        const int p = (k + nth - 1) % nth;
-        nb[k] = mid[p] < end[p]
-                    ? (cell_bound(pk[mid[p] - 1], pk[mid[p]]) - b0) & KPAR_KEY_MASK
-                    : P->cuts.rel[k];
-    }
-    const uint64_t r0 = nb[0];
-    P->cuts.bound0 = (b0 + r0) & KPAR_KEY_MASK;
-    for (int k = 0; k < nth; k++) P->cuts.rel[k] = (nb[k] - r0) & KPAR_KEY_MASK;
-    uint8_t *col = P->colour;
-    const uint64_t *rel = P->cuts.rel, bound0 = P->cuts.bound0;
-#pragma omp parallel for num_threads(nth) schedule(static)
-    for (size_t v = 0; v < nmesh; v++)
-        col[v] = (uint8_t)kpar_colour_of((keys[v] << sh) & KPAR_KEY_MASK, rel, bound0, nth);
-    uint32_t *ti = P->ti;
-    size_t at = 0;
-    for (int k = 0; k < nth; k++) {
-        const int p = (k + nth - 1) % nth;
-        b2[k] = at;
-        memcpy(ti + at, pts + stop_at[k], (mid[k] - stop_at[k]) * sizeof *ti);
-        at += mid[k] - stop_at[k];
-        const size_t own = at - b2[k];
-        memcpy(ti + at, pts + mid[p], (end[p] - mid[p]) * sizeof *ti);
-        at += end[p] - mid[p];
-        e2[k] = at;
-        P->runs.n[k] = own > 0 && at > b2[k] + own;
-        P->runs.at[(size_t)k * P->runs.cap] = (uint32_t)own;
-    }
-    for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: every point is its thread's */
-        for (size_t i = b2[k]; i < e2[k]; i++) GTET_DEBUG_ASSERT(col[ti[i]] == k);
-    return 1;
-}
-
 /* One parallel pass over pts[0..np) with `nth` threads; the mesh holds (or will hold, at the
  * end of this round) the vertices 0..nmesh-1.  Deferred points are moved to the front of pts
  * and counted in *left.  A round's first pass on Moore slices stops when a thread has done
- * its slice and rebalances the others' rests (rebalance_cut: the threads' speeds differ from
+ * its slice and rebalances the others' rests (rebalance.c: the threads' speeds differ from
  * run to run on a shared machine, and the cost weights only estimate the points' costs). */
 static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
                                  unsigned pass, size_t *left, size_t *attempts, int *out_of_room,
@@ -574,7 +483,7 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
                                 ndef, ntried, stop_at, &room);
     if (s != GTET_OK) return s;
     size_t b2[256], e2[256];
-    const int again = rebalance && rebalance_cut(P, P->pk, pts, nth, end, stop_at, keys, sh,
+    const int again = rebalance && kpar_rebalance_cut(P, P->pk, pts, nth, end, stop_at, keys, sh,
                                                  nmesh, b2, e2);
     size_t n = 0;
     *attempts = 0;
@@ -589,7 +498,7 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
     }
     if (again) {
         for (int k = 0; k < nth; k++)
-            if (end[k] - stop_at[k] >= REBALANCE_MIN) *rebalanced += end[k] - stop_at[k];
+            if (end[k] - stop_at[k] >= KPAR_REBALANCE_MIN) *rebalanced += end[k] - stop_at[k];
         s = pass_region(P, P->ti, b2, e2, nth, 0, NULL, ndef, ntried, stop_at, &room);
         if (s != GTET_OK) return s;
         for (int k = 0; k < nth; k++) {

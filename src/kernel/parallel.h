@@ -47,6 +47,23 @@ typedef struct kpar {
 gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys, int key_bits);
 void kpar_free(kpar *P);
 
+/* A round's first pass stops once a thread has done its slice; a thread then leaves the rest
+ * of its slice to the rebalancing only when at least this many points are left, else it goes
+ * on: a shorter rest costs less than the rebalancing's barrier, recolouring and new cut
+ * (NOTES.md E186). */
+#define KPAR_REBALANCE_MIN 4096
+
+/* The rebalancing's cuts (rebalance.c; parallel.c pass_parallel): thread k left its slice's
+ * rest pts[stop_at[k] .. end[k]) (pk alongside, the pass's keys and colour ranges in P->cuts);
+ * each rest of at least KPAR_REBALANCE_MIN points is cut in two, the next thread takes the
+ * second half, the vertices 0..nmesh-1 are recoloured by the moved boundaries (their keys
+ * (keys[v] << sh) & KPAR_KEY_MASK), and thread k's list is P->ti[b2[k] .. e2[k]) (its own first
+ * half, then the taken half from a run start in P->runs).  0, nothing changed, when no rest
+ * could be cut. */
+int kpar_rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth,
+                       const size_t end[], const size_t stop_at[], const uint64_t *keys, int sh,
+                       size_t nmesh, size_t b2[], size_t e2[]);
+
 /* Tests only (0 in every run of the library): when nonzero, thread 0 of a round's first pass
  * on Moore slices signals the stop of the rebalancing (parallel.c pass_parallel) after this
  * many tries, so that every thread leaves a rest to cut. */
