@@ -75,7 +75,7 @@ static void compare_levels(double (*p)[3], double seps, int s, const double *ms)
         pred_is_level lv = {0.0, 0.0};
         if (k > -4) {
             lv.w = ldexp(top, k);
-            lv.sw = pred_insphere_static_eps(lv.w, lv.w, lv.w);
+            lv.sw = pred_min_(pred_insphere_static_eps(lv.w, lv.w, lv.w), seps);
         }
         double ml[PRED_IS_NMINORS];
         memset(ml, 0x5a, sizeof ml);

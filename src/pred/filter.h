@@ -87,13 +87,12 @@
 #include <stdint.h>
 
 /* A thread's level for the insphere filter's static test (filter_packed.h
- * pred_insphere_filter_packed_lv): a power of two w and sw = pred_insphere_static_eps(w, w, w)
- * (PRED_NO_STATIC when w fails the guards); w = 0 never decides. */
+ * pred_insphere_filter_packed_lv): a power of two w and sw, the smaller of the static bound
+ * pred_insphere_static_eps(w, w, w) (PRED_NO_STATIC when w fails the guards) and the box's
+ * seps, kept so that a call compares with one value; w = 0 never decides. */
 typedef struct pred_is_level {
     double w, sw;
 } pred_is_level;
-
-
 
 #define PRED_O3_C 5.107025913280368e-15
 #define PRED_O3_LO 0x1p-320

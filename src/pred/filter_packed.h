@@ -359,7 +359,8 @@ static inline double pred_pow2_above_(double m)
 /* pred_insphere_filter_packed with a static test on the thread's level first: when every
  * computed translated coordinate of the tuple lies below lv->w in magnitude, the static bound
  * of a box of extents w, w, w (lv->sw) holds for it (proofs/filters.md section 8, X' = Y' = Z'
- * = w), and it decides wherever the mesh is finer than the global box's bound (seps) sees.
+ * = w; lv->sw is the smaller of that bound and seps), and it decides wherever the mesh is
+ * finer than the global box's bound (seps) sees.
  * The same answer as pred_insphere_filter: a tuple inside w has maxima X, Y, Z <= w, so its
  * semi-static eps <= sw (the same product chain, rounding monotone) and |det~| > sw decides
  * the scalar filter too, with the sign of det~.  A call the level leaves is the static-first
@@ -379,14 +380,14 @@ static inline int pred_insphere_filter_packed_lv(const double *a, const double *
                                     _mm256_and_pd(L.Z, mag));
     const int inside =
         _mm256_movemask_pd(_mm256_cmp_pd(m, _mm256_set1_pd(lv->w), _CMP_LT_OQ)) == 0xF;
-    const double t = inside ? pred_min_(lv->sw, seps) : seps;
+    const double t = inside ? lv->sw : seps;
     if (det > t) return 1;
     if (det < -t) return -1;
     ++*static_misses;
     const double M = pred_hmax4_(m);
     if (M == M && M < PRED_IS_HI) {
         lv->w = pred_pow2_above_(M);
-        lv->sw = pred_insphere_static_eps(lv->w, lv->w, lv->w);
+        lv->sw = pred_min_(pred_insphere_static_eps(lv->w, lv->w, lv->w), seps);
     }
     return pred_insphere_packed4_rest_(&L, det, seps, minors);
 }

@@ -156,5 +156,4 @@ int pred_fp_selftest(void);
 int pred_coplanar_orientation(const double *a, const double *b, const double *c,
                               pred_counters *cnt);
 
-
 #endif
