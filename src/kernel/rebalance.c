@@ -9,36 +9,6 @@
 
 #include "../base/base.h"
 
-/* The Moore-cell boundary between the keys x != y that follow each other on the loop: the
- * coarsest cell boundary B with x < B <= y, 0 when the loop's origin lies between them (as
- * slices.c gap_level), so that colour regions stay unions of cubes. */
-static uint64_t cell_bound(uint64_t x, uint64_t y)
-{
-    if (y < x) return 0;
-    const int h = 63 - __builtin_clzll(x ^ y);
-    return y & ~((UINT64_C(1) << (h / 3 * 3)) - 1);
-}
-
-/* Where a rest pk[lo..hi) (hi - lo >= 2) is cut: the gap (between positions i - 1 and i) of
- * the coarsest Moore cell within (hi - lo) / REST_TOL of the middle, the nearest to it among
- * those (a coarse cell's faces meet fewer tets than a fine staircase: fewer points deferred
- * at the cut); hi when every gap there lies between equal keys (O1: never cut between them). */
-#define REST_TOL 16
-static size_t rest_cut(const uint64_t *pk, size_t lo, size_t hi)
-{
-    const size_t t = lo + (hi - lo) / 2, tol = (hi - lo) / REST_TOL;
-    size_t best = hi;
-    int level = -1;
-    for (size_t d = 0; d <= tol; d++)
-        for (int side = 0; side < 2 - (d == 0); side++) {
-            const size_t i = side ? t - d : t + d;
-            if (i <= lo || i >= hi || pk[i] == pk[i - 1]) continue;
-            const int l = pk[i] < pk[i - 1] ? 64 : (63 - __builtin_clzll(pk[i] ^ pk[i - 1])) / 3;
-            if (l > level) level = l, best = i;
-        }
-    return best;
-}
-
 /* The rebalancing of a round's first pass (NOTES.md E186).  The pass stopped when a thread had
  * inserted its whole slice; thread k left its rest L_k = pts[stop_at[k] .. end[k]) untried
  * (in key order: a tail of its slice along the curve).  Each rest is cut in two at a Moore
@@ -52,10 +22,12 @@ int kpar_rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth
                          int sh, size_t nmesh, size_t b2[], size_t e2[])
 {
     size_t mid[256];
-    uint64_t nb[256];  /* the new boundaries, relative to the old bound0 */
+    uint64_t nb[256], cell[256];  /* the new boundaries, relative to the old bound0; the cuts' */
     int cut = 0;
     for (int k = 0; k < nth; k++) {
-        mid[k] = end[k] - stop_at[k] >= KPAR_REBALANCE_MIN ? rest_cut(pk, stop_at[k], end[k]) : end[k];
+        mid[k] = end[k] - stop_at[k] >= KPAR_REBALANCE_MIN
+                     ? kpar_rest_cut(pk, end[nth - 1], stop_at[k], end[k], &cell[k])
+                     : end[k];
         cut |= mid[k] < end[k];
     }
     for (int k = 0; k < nth; k++)  /* an empty slice's range (kpar_slices): not cut here */
@@ -64,9 +36,7 @@ int kpar_rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth
     const uint64_t b0 = P->cuts.bound0;
     for (int k = 0; k < nth; k++) {
         const int p = (k + nth - 1) % nth;
-        nb[k] = mid[p] < end[p]
-                    ? (cell_bound(pk[mid[p] - 1], pk[mid[p]]) - b0) & KPAR_KEY_MASK
-                    : P->cuts.rel[k];
+        nb[k] = mid[p] < end[p] ? (cell[p] - b0) & KPAR_KEY_MASK : P->cuts.rel[k];
     }
     const uint64_t r0 = nb[0];
     P->cuts.bound0 = (b0 + r0) & KPAR_KEY_MASK;

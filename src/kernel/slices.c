@@ -71,6 +71,28 @@ static long snap_cut(const uint64_t *pk, size_t np, size_t t, size_t tol)
 
 #define BEST_ORIGIN_PARALLEL 65536  /* fewer pending points: the origin's search on one thread */
 
+/* The rebalancing's cut of a rest pk[lo..hi) (rebalance.c; lo < hi <= np, hi - lo >= 2): the
+ * gap of the coarsest level (gap_level) within (hi - lo) / REST_TOL of the middle and inside
+ * the rest, the nearest to the middle among those (a coarse cell's faces meet fewer tets than
+ * a fine staircase: fewer points deferred at the cut), with its cell's key in *bound; hi when
+ * every gap there lies between equal keys (O1: never cut between them). */
+#define REST_TOL 16
+size_t kpar_rest_cut(const uint64_t *pk, size_t np, size_t lo, size_t hi, uint64_t *bound)
+{
+    const size_t t = lo + (hi - lo) / 2, tol = (hi - lo) / REST_TOL;
+    size_t best = hi;
+    int level = -1;
+    uint64_t b;
+    for (size_t d = 0; d <= tol; d++)
+        for (int side = 0; side < 2 - (d == 0); side++) {
+            const size_t i = side ? t - d : t + d;
+            if (i <= lo || i >= hi) continue;
+            const int l = gap_level(pk, np, i, &b);
+            if (l > level) level = l, best = i, *bound = b;
+        }
+    return best;
+}
+
 /* Equal counts: goal[j] (j < nth), the points before cut j measured from the origin.  (Cuts
  * weighted by an estimated cost, E21 and E187, balanced the static filter's dearer calls on
  * points finer than its scale; since the level filter, E188, those points cost what the others

@@ -28,6 +28,11 @@ void kpar_slices(uint64_t *pk, uint32_t *pts, size_t np, int nth, int rotate,
                  const kpar_cuts *prev, uint64_t *tk, uint32_t *ti,
                  size_t begin[], size_t end[], uint64_t rel[], uint64_t *bound0);
 
+/* The rebalancing's cut of a rest pk[lo..hi) of the sorted keys pk[0..np) (0 <= lo, hi - lo >= 2):
+ * the position i (lo < i < hi) of the coarsest Moore-cell gap near the rest's middle, its
+ * cell's key B (pk[i - 1] < B <= pk[i] along the loop) in *bound; hi when none (slices.c). */
+size_t kpar_rest_cut(const uint64_t *pk, size_t np, size_t lo, size_t hi, uint64_t *bound);
+
 /* The colour of a vertex with 63-bit key `key`: the largest k with rel[k] <= key measured from
  * bound0 along the loop. */
 static inline int kpar_colour_of(uint64_t key, const uint64_t rel[], uint64_t bound0, int nth)
