@@ -47,6 +47,12 @@ typedef struct kpar {
 gtet_status kpar_init(kpar *P, kmesh *m, kctx *ctx, int threads, uint64_t *keys, int key_bits);
 void kpar_free(kpar *P);
 
+/* The slices pts[begin[k] .. end[k]) of a pass over pts[0..np) (reordered) and the colours of
+ * the vertices 0..nmesh-1 (O1); *keys_out and *sh_out: the Moore keys the slices were cut on
+ * (a vertex's key (keys[v] << sh) & KPAR_KEY_MASK), NULL for slabs (partition.c). */
+void kpar_pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, unsigned pass,
+                         size_t begin[], size_t end[], const uint64_t **keys_out, int *sh_out);
+
 /* A round's first pass stops once a thread has done its slice; a thread then leaves the rest
  * of its slice to the rebalancing only when at least this many points are left, else it goes
  * on: a shorter rest costs less than the rebalancing's barrier, recolouring and new cut
