@@ -70,9 +70,11 @@
  * and roll back every point before the round goes serial, slower than one thread (NOTES.md
  * E3).  Deferring is always allowed (O7, T5). */
 #define GIVE_UP_PROBE 16
-size_t kpar_test_stop_after = 0;
 #define GIVE_UP_MIN 1024
 #define GIVE_UP_RATE 8
+
+size_t kpar_test_stop_after = 0;  /* parallel.h */
+
 /* A pass after the first retry colours every vertex in the mesh again (a slab by one coordinate,
  * NOTES.md E40; a re-keying on a new box when slabs are refused), and its points are the hard
  * ones (big cavities, long walks): with fewer pending points than nmesh / SERIAL_TAIL it is one
@@ -200,6 +202,7 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
     size_t nd = 0, tried = 0;
     int give_up = 0;
     c->last_ghost = UINT32_MAX;  /* O13: a hull search starts only from this pass's own ghost */
+    const size_t test_stop = stop ? kpar_test_stop_after : 0;  /* parallel.h: tests only */
     size_t i = b;
     for (; i < e; i++) {
         int deferred = 1;
@@ -212,8 +215,7 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
             stopped = *stop;
         }
         if (stopped && e - i >= KPAR_REBALANCE_MIN) break;  /* the rest goes to the rebalancing */
-        if (stop && kpar_test_stop_after && tried == kpar_test_stop_after &&
-            c->mine == 0) {
+        if (test_stop && tried == test_stop && c->mine == 0) {
 #pragma omp atomic write
             *stop = 1;  /* tests: a stop the other threads see with most of their slices left */
         }
