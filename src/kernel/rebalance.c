@@ -18,8 +18,8 @@
  * in ti: its own first half, then (a run start, E100) the second half of L_{k-1}.  Returns 0
  * (nothing changed) when no rest is long enough to cut. */
 int kpar_rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth,
-                         const size_t end[], const size_t stop_at[], const uint64_t *keys,
-                         int sh, size_t nmesh, size_t b2[], size_t e2[])
+                       const size_t end[], const size_t stop_at[], const uint64_t *keys, int sh,
+                       size_t nmesh, size_t b2[], size_t e2[])
 {
     size_t mid[256];
     uint64_t nb[256], cell[256];  /* the new boundaries, relative to the old bound0; the cuts' */
