@@ -82,12 +82,12 @@ static double *points(int cluster, int degenerate, double radius, uint64_t seed)
     return p;
 }
 
-enum order { STATIC_FIRST, SEMI_FIRST, SAMPLED, SAMPLED_BASELINE };
+enum order { STATIC_FIRST, LOCAL_FIRST, SAMPLED, SAMPLED_BASELINE };
 
 typedef struct run {
     size_t nt;
     uint32_t *tv, *tn;
-    long semi_first_insertions;
+    long local_first_insertions;
     uint64_t walk_steps, orient_calls, orient_exact;  /* the walk's counters */
 } run;
 
@@ -103,15 +103,15 @@ static int build(const double *p, enum order o, run *out)
     if (o == SAMPLED_BASELINE) c.avx2 = 0;
     if (o < SAMPLED) {  /* the sampler never runs: the order stays as set */
         c.order_left = UINT32_MAX;
-        c.semi_first = o == SEMI_FIRST;
+        c.local_first = o == LOCAL_FIRST;
     }
     int ok = km_first_tet(&c, 0, 1, 2, 4) == GTET_OK;
-    out->semi_first_insertions = 0;
+    out->local_first_insertions = 0;
     for (uint32_t i = 3; ok && i < (uint32_t)N; i++) {
         if (i == 4) continue;
         int deferred = 0;
         ok = km_insert(&c, i, &deferred) == GTET_OK && !deferred;
-        out->semi_first_insertions += c.semi_first;  /* the order this insertion ran with */
+        out->local_first_insertions += c.local_first;  /* the order this insertion ran with */
     }
     out->walk_steps = c.walk_steps;
     out->orient_calls = c.cnt.orient_calls;
@@ -147,8 +147,8 @@ static void test_every_order_builds_the_same_arrays(void)
                            memcmp(r[o].tn, r[0].tn, r[0].nt * 4 * sizeof *r[0].tn) == 0,
                        "cluster %d: order %d built other arrays (%zu slots against %zu)",
                        cluster, o, r[o].nt, r[0].nt);
-        TEST_CHECK(r[1].semi_first_insertions == N - 4, "forced semi-first ran %ld of %d",
-                   r[1].semi_first_insertions, N - 4);
+        TEST_CHECK(r[1].local_first_insertions == N - 4, "forced local-first ran %ld of %d",
+                   r[1].local_first_insertions, N - 4);
         /* the walks too: the same steps and tests in either instance, and on the lattice
          * points some of the four-lane walk's facets go to the exact rest */
         TEST_CHECK(r[2].walk_steps == r[3].walk_steps && r[2].orient_calls == r[3].orient_calls &&
@@ -182,14 +182,14 @@ static void test_the_sampler_follows_the_static_bound(void)
     /* the middle share runs the second order most of the time (a sample's share varies
      * along the curve: ~64 % of the insertions when this was written), nearly all misses
      * too but in the first periods, while the mesh is coarse, and nearly none never */
-    TEST_CHECK(a.semi_first_insertions > (N - 4) / 2,
+    TEST_CHECK(a.local_first_insertions > (N - 4) / 2,
                "a cluster whose tets straddle the static bound's scale ran the second order "
-               "for %ld of %d insertions", a.semi_first_insertions, N - 4);
-    TEST_CHECK(t.semi_first_insertions > (N - 4) / 2,
+               "for %ld of %d insertions", a.local_first_insertions, N - 4);
+    TEST_CHECK(t.local_first_insertions > (N - 4) / 2,
                "a cluster the static bound never decides ran the second order for %ld of %d "
-               "insertions", t.semi_first_insertions, N - 4);
-    TEST_CHECK(b.semi_first_insertions == 0,
-               "uniform points ran the second order for %ld insertions", b.semi_first_insertions);
+               "insertions", t.local_first_insertions, N - 4);
+    TEST_CHECK(b.local_first_insertions == 0,
+               "uniform points ran the second order for %ld insertions", b.local_first_insertions);
     release(&a);
     release(&t);
     release(&b);

@@ -8,15 +8,15 @@
 #include "kmesh.h"
 
 /* Does point p conflict with tet t (perturbed insphere, or the hull rule for a ghost)?  tv, V
- * and seps are c->m's tet vertices, coordinates and static insphere bound, semi_first is
- * c->semi_first (km_filter_order): the cavity search reads them once a point and passes
+ * and seps are c->m's tet vertices, coordinates and static insphere bound, local_first is
+ * c->local_first (km_filter_order): the cavity search reads them once a point and passes
  * them, where each call would load them again (stores through the boundary records may
  * alias them for the compiler; NOTES.md E142).
  * always_inline: gcc's size heuristics stop inlining it once the filter keeps its record of
  * an undecided call (filter.h pred_insphere_keep_): paraboloid 100k +4.5% instructions. */
 __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const uint32_t *tv,
                                                                  const double *V, double seps,
-                                                                 int semi_first, uint32_t t,
+                                                                 int local_first, uint32_t t,
                                                                  const double *p)
 {
     const kmesh *m = c->m;
@@ -33,12 +33,12 @@ __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const 
      * pred_insphere_filter_packed_lv, pred_insphere_filter_packed_sf). */
     double minors[PRED_IS_NMINORS];
 #ifdef PRED_INSPHERE_PACKED
-    int s = semi_first
+    int s = local_first
                 ? pred_insphere_filter_packed_lv_or_(a, b, cc, d, p, seps, &c->level, minors,
                                                      &c->static_misses)
                 : pred_insphere_filter_packed(a, b, cc, d, p, seps, minors, &c->static_misses);
 #else
-    (void)semi_first;  /* one order only: the sampler counts no miss and never switches */
+    (void)local_first;  /* one order only: the sampler counts no miss and never switches */
     int s = pred_insphere_filter(a, b, cc, d, p, seps, minors);
 #endif
     if (s != 0) {
@@ -52,7 +52,7 @@ __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const 
 __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t t, const double *p)
 {
     const kmesh *m = c->m;
-    return km_conflicts_in(c, m->tv, m->v, m->ps.is_seps, c->semi_first, t, p);
+    return km_conflicts_in(c, m->tv, m->v, m->ps.is_seps, c->local_first, t, p);
 }
 
 /* The insphere filter's order for the next insertions.  The static test decides almost every

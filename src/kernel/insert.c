@@ -44,18 +44,18 @@ __attribute__((cold, noinline)) void km_filter_order(kctx *c)
     const uint64_t miss = c->static_misses;
     if (c->sampling == 1 && KM_ORDER_SHARE_LO_DEN * miss > KM_ORDER_SHARE_LO_NUM * calls) {
         /* the static test leaves more than a third: sample the level filter first */
-        c->semi_first = 1;
+        c->local_first = 1;
         c->sampling = 2;
         c->static_misses = 0;
         c->sample_calls0 = c->cnt.insphere_calls;
         c->order_left = KM_ORDER_SAMPLE;
     } else if (c->sampling) {  /* a sample ends: the order for the rest of the period */
-        c->semi_first = c->sampling == 2 &&
+        c->local_first = c->sampling == 2 &&
                         KM_ORDER_SHARE_HI_DEN * miss <= KM_ORDER_SHARE_HI_NUM * calls;
         c->order_left = KM_ORDER_PERIOD - KM_ORDER_SAMPLE * c->sampling;
         c->sampling = 0;
     } else {            /* a period ends: sample static-first */
-        c->semi_first = 0;
+        c->local_first = 0;
         c->sampling = 1;
         c->static_misses = 0;
         c->sample_calls0 = c->cnt.insphere_calls;
@@ -69,7 +69,7 @@ static __attribute__((noinline)) gtet_status km_insert_static_first(kctx *c, uin
     return km_insert_t(c, pid, deferred, 0);
 }
 
-static __attribute__((noinline)) gtet_status km_insert_semi_first(kctx *c, uint32_t pid,
+static __attribute__((noinline)) gtet_status km_insert_local_first(kctx *c, uint32_t pid,
                                                                   int *deferred)
 {
     return km_insert_t(c, pid, deferred, 1);
@@ -81,10 +81,10 @@ gtet_status km_insert(kctx *c, uint32_t pid, int *deferred)
     if (__builtin_expect(c->order_left-- == 0, 0)) km_filter_order(c);
 #ifdef GTET_AVX2_TU
     if (c->avx2)
-        return c->semi_first ? km_insert_semi_first_avx2(c, pid, deferred)
+        return c->local_first ? km_insert_local_first_avx2(c, pid, deferred)
                              : km_insert_static_first_avx2(c, pid, deferred);
 #endif
-    return c->semi_first ? km_insert_semi_first(c, pid, deferred)
+    return c->local_first ? km_insert_local_first(c, pid, deferred)
                          : km_insert_static_first(c, pid, deferred);
 }
 

@@ -17,7 +17,7 @@ __attribute__((noinline)) gtet_status km_insert_static_first_avx2(kctx *c, uint3
     return km_insert_t(c, pid, deferred, 0);
 }
 
-__attribute__((noinline)) gtet_status km_insert_semi_first_avx2(kctx *c, uint32_t pid,
+__attribute__((noinline)) gtet_status km_insert_local_first_avx2(kctx *c, uint32_t pid,
                                                                 int *deferred)
 {
     return km_insert_t(c, pid, deferred, 1);

@@ -259,11 +259,11 @@ static void rollback(kctx *c, size_t ncav)
  * deleted tets in c->cav[0..*ncav) (marked dead), the boundary facets in c->bnd[0..*nb) as
  * the new tets they become.  In a parallel pass every tet is checked to be this thread's
  * before it is marked (O2); a tet that is not rolls the marks back and defers.  *foreign: a
- * cavity tet has a vertex of another colour (own_min 3).  semi_first: the insphere filter's
+ * cavity tet has a vertex of another colour (own_min 3).  local_first: the insphere filter's
  * order (km_filter_order), a constant in each of its instances. */
 #define KM_KEPT_CACHE 64
 KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, size_t *ncav_out,
-                        size_t *nb_out, int *foreign_out, int *deferred, const int semi_first)
+                        size_t *nb_out, int *foreign_out, int *deferred, const int local_first)
 {
     kmesh *m = c->m;
     size_t ncav = 0, nb = 0;
@@ -319,7 +319,7 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
             uint32_t h = hn[f];
             uint32_t u = h >> 2;
             uint32_t *k = &kept[u & (KM_KEPT_CACHE - 1)];
-            if (*k != u && km_conflicts_in(c, tv, V, seps, semi_first, u, p)) {
+            if (*k != u && km_conflicts_in(c, tv, V, seps, local_first, u, p)) {
                 if (c->colour) {
                     const int own = km_owned(c, u);
                     if (!own) {
@@ -446,11 +446,11 @@ static __attribute__((noinline)) void remember_ghost(kctx *c, size_t nb)
  * (and the registers) of one order only */
 static inline __attribute__((always_inline)) gtet_status km_insert_t(kctx *c, uint32_t pid,
                                                                      int *deferred,
-                                                                     const int semi_first)
+                                                                     const int local_first)
 {
     const double *p = km_pt(c->m, pid);
     uint32_t t0;
-    gtet_status s = km_find_conflict(c, p, &t0, semi_first);
+    gtet_status s = km_find_conflict(c, p, &t0, local_first);
     if (s != GTET_OK) return s;
     if (t0 == UINT32_MAX) {
         c->conflicts++;
@@ -460,7 +460,7 @@ static inline __attribute__((always_inline)) gtet_status km_insert_t(kctx *c, ui
     size_t ncav = 0, nb = 0;
     int foreign = 0;
     const int outside = km_is_ghost(c->m, t0);  /* p beyond a hull facet (the walk's ghost) */
-    s = dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred, semi_first);
+    s = dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred, local_first);
     if (s != GTET_OK) return s;
     if (*deferred) {
         c->defer_hint = t0;  /* in conflict with p: next to it (rolled back, live) */
@@ -474,5 +474,5 @@ static inline __attribute__((always_inline)) gtet_status km_insert_t(kctx *c, ui
 
 /* the two instances compiled with AVX2 (insert_avx2.c), when the build has them */
 gtet_status km_insert_static_first_avx2(kctx *c, uint32_t pid, int *deferred);
-gtet_status km_insert_semi_first_avx2(kctx *c, uint32_t pid, int *deferred);
+gtet_status km_insert_local_first_avx2(kctx *c, uint32_t pid, int *deferred);
 #endif

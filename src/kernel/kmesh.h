@@ -103,11 +103,12 @@ typedef struct kctx {
                             point), or UINT32_MAX (the walk met another thread's tet first: its
                             stop can be far from the point): the point's next pass may start
                             its walk there (parallel.c, NOTES.md E177) */
-    /* the insphere filter's order (conflict.h km_filter_order): semi_first set, the level
-     * filter first (without AVX2 the semi-static bound), else the static test first; a sample
+    /* the insphere filter's order (conflict.h km_filter_order): local_first set, a bound at
+     * the tuple's own scale first (the level filter; without AVX2 the semi-static bound),
+     * else the static test, fixed by the box, first; a sample
      * of static-first insertions (sampling 1) counts the calls the static test leaves, then
      * one of level-first insertions (sampling 2) those both tests leave */
-    uint8_t semi_first, sampling;
+    uint8_t local_first, sampling;
     uint8_t avx2;                 /* km_insert runs the AVX2 instances (insert_avx2.c) */
     uint32_t order_left;          /* insertions before the order is reconsidered */
     uint64_t static_misses, sample_calls0;

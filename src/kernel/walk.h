@@ -135,12 +135,12 @@ static __attribute__((noinline, unused)) gtet_status km_walk_t(kctx *c, const do
  * else by the visibility walk from c->last; *t0 = UINT32_MAX in a parallel pass
  * when the walk met a tet not this thread's or ran out of steps (defer).  Inlined into
  * km_insert (one call a point less), always: as a function shared by the two orders' instances
- * its filter order became a test per call (u1M +2 %: NOTES.md E188); semi_first as for
+ * its filter order became a test per call (u1M +2 %: NOTES.md E188); local_first as for
  * km_conflicts_in. */
 __attribute__((always_inline)) static inline gtet_status km_find_conflict(kctx *c,
                                                                           const double *p,
                                                                           uint32_t *t0,
-                                                                          const int semi_first)
+                                                                          const int local_first)
 {
     if (__builtin_expect(c->last_ghost != UINT32_MAX, 0)) {
         *t0 = km_hull_search(c, p);
@@ -149,7 +149,7 @@ __attribute__((always_inline)) static inline gtet_status km_find_conflict(kctx *
     }
     gtet_status s = km_walk_t(c, p, t0, 1);
     if (s != GTET_OK || *t0 == UINT32_MAX) return s;
-    if (km_conflicts_in(c, c->m->tv, c->m->v, c->m->ps.is_seps, semi_first, *t0, p))
+    if (km_conflicts_in(c, c->m->tv, c->m->v, c->m->ps.is_seps, local_first, *t0, p))
         return GTET_OK;
     /* the located tet must conflict (locate.c) */
     if (c->colour) return GTET_ERR_INTERNAL;
