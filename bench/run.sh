@@ -15,6 +15,9 @@
 #   scanASIZE  `gigatet generate surface --mesh armadillo.off`: uniform on the triangles of the
 #              Stanford Armadillo scan (52,000 triangles)
 #   scanBSIZE  the same on the Stanford Bunny scan (bunny00.off, 75,408 triangles)
+#   cadFSIZE   the same on a CAD part, the fandisk (fandisk.off: flat and curved faces)
+#   cadCSIZE   the same on the cube [-1,1]^3 (cube.off): its faces come out of the sampler's
+#              sums in three ulp-thin layers, the case of NOTES.md Q57
 # The scan meshes come from CGAL's data, /usr/share/doc/libcgal-demo/data.tar.gz (Debian
 # package libcgal-demo; or the tarball $BENCH_CGAL_DATA names), extracted into
 # bench/data/meshes/; without it (or without a built gigatet for the gigatet-made families)
@@ -92,14 +95,17 @@ count_of() {  # "200k" -> 200000, "1M" -> 1000000, "50" -> 50; fails on anything
     *) [[ $1 =~ ^[0-9]+$ ]] && echo "$1" ;;
   esac
 }
-scan_mesh() {  # scanA / scanB -> the mesh file of CGAL's data
-  case "$1" in scanA) echo armadillo.off ;; scanB) echo bunny00.off ;; esac
+scan_mesh() {  # scanA / scanB / cadF / cadC -> the mesh file of CGAL's data
+  case "$1" in
+    scanA) echo armadillo.off ;; scanB) echo bunny00.off ;;
+    cadF) echo fandisk.off ;; cadC) echo cube.off ;;
+  esac
 }
 # The command writing input $1 to the file $2 (format by extension), as the array gen_cmd;
 # fails with a message on stderr when the input cannot be made here.
 input_cmd() {
   local in=$1 outf=$2 fam size n mesh
-  fam=$(sed -E 's/^(u|g|clu|mix|sph|par|scanA|scanB)[0-9]+[kM]?$/\1/' <<< "$in")
+  fam=$(sed -E 's/^(u|g|clu|mix|sph|par|scanA|scanB|cadF|cadC)[0-9]+[kM]?$/\1/' <<< "$in")
   size=${in#"$fam"}
   if [ "$fam" = "$in" ] || ! n=$(count_of "$size"); then
     echo "bench/run.sh: unknown input $in" >&2; exit 1
@@ -109,7 +115,7 @@ input_cmd() {
     g) gen_cmd=(python3 "$gen" grid "$n" --seed 1 -o "$outf") ;;
     clu) gen_cmd=(python3 "$gen" halfcube "$n" --seed 1 -o "$outf") ;;
     mix) gen_cmd=(python3 "$gen" mixed "$n" --seed 1 -o "$outf") ;;
-    sph|par|scanA|scanB)
+    sph|par|scanA|scanB|cadF|cadC)
       if [ ! -x "$build/gigatet" ]; then
         echo "bench: skipping $in: it is made by $build/gigatet generate, which is not built" >&2
         return 1
@@ -121,7 +127,7 @@ input_cmd() {
           mesh=$(scan_mesh "$fam")
           if [ ! -s "$data/meshes/$mesh" ]; then
             if [ ! -r "$mesh_tarball" ]; then
-              echo "bench: skipping $in: its mesh $mesh (a real scan) comes from $mesh_tarball," \
+              echo "bench: skipping $in: its mesh $mesh (CGAL's data) comes from $mesh_tarball," \
                    "which is missing (Debian package libcgal-demo: apt-get install libcgal-demo)" >&2
               return 1
             fi
