@@ -229,6 +229,46 @@ static void test_ele_variants(void)
     }
 }
 
+/* 10-node tets as TetGen's -o2 writes them: the mid-edge nodes after every corner in the
+ * .node.  They are dropped (the corners keep their numbers); a node after them that no tet
+ * names is kept, and with it the mid-edge nodes before it. */
+static void test_ele_quadratic(void)
+{
+    for (int base = 0; base <= 1; base++) {
+        for (int extra = 0; extra <= 1; extra++) {
+            bb n = {0}, e = {0};
+            int nv = 6 + 12 + extra;
+            pf(&n, "%d 3 0 0\n", nv);
+            for (int i = 0; i < nv; i++) {
+                const double *p = V[i < 6 ? i : i % 6];
+                pf(&n, "%d %.17g %.17g %.17g\n", i + base, p[0] + (i >= 6), p[1], p[2]);
+            }
+            pf(&e, "2 10 1\n");
+            for (int t = 0; t < 2; t++) {
+                pf(&e, "%d %u %u %u %u", t + base, T[t][0] + base, T[t][1] + base,
+                   T[t][2] + base, T[t][3] + base);
+                for (int k = 0; k < 6; k++) pf(&e, " %d", 6 + 6 * t + k + base);
+                pf(&e, " -1.5\n");
+            }
+            char name[32];
+            snprintf(name, sizeof name, "q%d%d.ele", base, extra);
+            if (!extra) {
+                expect_mesh(IO_FMT_ELE, name, &e, &n, 0, 0);
+            } else {
+                io_mesh m;
+                io_error er;
+                io_status s = io_parse_mesh(IO_FMT_ELE, name, e.p, e.n, n.p, n.n, &m, &er);
+                TEST_CHECK(s == IO_OK && m.nv == 19 && m.nt == 2 &&
+                           memcmp(m.tets, T, sizeof T) == 0, "%s: status %d (%s), nv %zu",
+                           name, s, er.message, m.nv);
+                io_mesh_free(&m);
+            }
+            free(n.p);
+            free(e.p);
+        }
+    }
+}
+
 /* ---- Gmsh --------------------------------------------------------------------------------- */
 
 static void msh41_ascii(bb *b)
@@ -608,6 +648,7 @@ int main(void)
         return 1;
     }
     TU_RUN(test_ele_variants);
+    TU_RUN(test_ele_quadratic);
     TU_RUN(test_msh_variants);
     TU_RUN(test_msh_malformed);
     TU_RUN(test_vtu_variants);

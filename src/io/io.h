@@ -36,7 +36,8 @@
  *   .ele   TetGen, with the .node beside it: 0- or 1-based (the .node's first id decides,
  *          as after TetGen's -z), attribute and boundary-marker columns in the .node and
  *          region-attribute columns in the .ele read and dropped, 4 or 10 nodes per tet (the
- *          first 4, the corners, are kept).
+ *          first 4, the corners, are kept; the trailing run of .node entries that are only
+ *          mid-edge nodes, where TetGen's -o2 puts them, is dropped, read_ele.c).
  *   .msh   Gmsh MSH 4.1 and 2.2 (2.0, 2.1 alike), ASCII or binary (little-endian; 4.1's
  *          size_t fields 4 or 8 bytes as its $MeshFormat says).  $MeshFormat, $Nodes and
  *          $Elements are read, $Entities and every other section skipped.  Node tags may be
