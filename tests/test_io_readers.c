@@ -365,6 +365,18 @@ static void test_text_formats_skip_a_utf8_byte_order_mark(void)
            NULL);
 }
 
+/* UTF-16 and UTF-32 text (Windows PowerShell's `>` writes UTF-16LE with its byte order mark)
+ * is refused naming the encoding; before, the first token was quoted as '??0?'. */
+static void test_text_formats_name_a_utf16_or_utf32_file(void)
+{
+    REJECT(IO_FMT_XYZ, "\xFF\xFE" "0\0 \0" "0\0 \0" "0\0\n\0", "in.dat: the file is UTF-16LE text",
+           "iconv -f UTF-16 -t UTF-8");
+    REJECT(IO_FMT_NODE, "\xFE\xFF" "\0" "4", "in.dat: the file is UTF-16BE text", NULL);
+    REJECT(IO_FMT_OFF, "\xFF\xFE\0\0" "O\0\0\0", "in.dat: the file is UTF-32LE text",
+           "iconv -f UTF-32 -t UTF-8");
+    REJECT(IO_FMT_PLY, "\0\0\xFE\xFF" "\0\0\0p", "in.dat: the file is UTF-32BE text", NULL);
+}
+
 /* NOTES.md E153: a PLY element without properties (legal; its items have no bytes, and in
  * ascii no values) before the vertex element: binary skipped it item by item (2^64 items: a
  * loop only the optimiser removed), ascii took vertex lines for its items. */
@@ -412,6 +424,7 @@ int main(void)
     TU_RUN(test_bin_file_reader_checks_the_size_before_allocating);
     TU_RUN(test_read_points_rejects_missing_file_directory_and_unknown_extension);
     TU_RUN(test_text_formats_skip_a_utf8_byte_order_mark);
+    TU_RUN(test_text_formats_name_a_utf16_or_utf32_file);
     TU_RUN(test_ply_elements_without_properties);
     return tu_finish();
 }

@@ -18,7 +18,8 @@
  * trailing garbage, a wrong number of columns, NaN or Inf (also decimal overflow), an empty
  * file, a header claiming more points than the file holds (checked against the file size
  * before anything is allocated, so a header claiming 2^60 points allocates nothing), extra
- * data after the declared points, a missing file, a directory, an unknown extension.
+ * data after the declared points, a missing file, a directory, an unknown extension, text in
+ * UTF-16 or UTF-32 (named from its byte order mark; a UTF-8 one is skipped).
  *
  * Writers are atomic: the data goes to a temporary file created next to the destination
  * (O_EXCL, so the umask applies as for any new file) and is renamed over it only after

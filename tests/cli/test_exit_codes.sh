@@ -82,6 +82,9 @@ printf '0 0 0\n1 0 0 7\n' > cols4.xyz
 expect 2 "cols4.xyz:2: expected 3 numbers (x y z), found 4" -- "$G" triangulate cols4.xyz
 printf '# c\n0 0 0\n1 0 0\n0 1 0\n0 0 1x\n' > junk.xyz
 expect 2 "junk.xyz:5: z coordinate is not a number" -- "$G" triangulate junk.xyz
+# Windows PowerShell's `>` writes UTF-16LE with a byte order mark: named, not quoted as '??0?'
+printf '\377\376' > u16.xyz && printf '0 0 0\n1 0 0\n0 1 0\n0 0 1\n' | sed 's/./&\x0/g; s/$/\x0/' >> u16.xyz
+expect 2 "u16.xyz: the file is UTF-16LE text" -- "$G" triangulate u16.xyz
 printf '0 0 0\n1 0 0\n0 nan 0\n0 0 1\n' > nan.xyz
 expect 2 "nan.xyz:3: y coordinate is not finite" -- "$G" triangulate nan.xyz
 printf '0 0 0\n1 0 0\n0 1 0\n0 0 -inf\n' > inf.xyz
