@@ -187,6 +187,25 @@ static size_t binary_ply(unsigned char *buf, uint64_t count, int nan_at)
     return (size_t)(q - buf);
 }
 
+/* The smallest ascii data: one-character values and no newline after the last one (the size
+ * check before the allocation counted a separator after it and refused the file). */
+static void test_ply_ascii_smallest_data_without_final_newline(void)
+{
+    static const char txt[] = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                              "property float y\nproperty float z\nend_header\n"
+                              "0 0 0\n1 0 0\n0 1 0\n0 0 1";
+    double *p = NULL;
+    size_t n = 0;
+    io_error e;
+    io_status s = parse(IO_FMT_PLY, "min.ply", txt, sizeof txt - 1, &p, &n, &e);
+    TEST_CHECK(s == IO_OK && n == 4 && p[3] == 1 && p[11] == 1, "status %d (%s), n %zu", s,
+               s == IO_OK ? "" : e.message, n);
+    free(p);
+    REJECT(IO_FMT_PLY, "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                       "property float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0",
+           "in.dat", NULL);
+}
+
 static void test_ply_binary_little_endian_reads_float_and_double_among_lists(void)
 {
     unsigned char buf[2048];
@@ -418,6 +437,7 @@ int main(void)
     TU_RUN(test_node_reads_zero_and_one_based_with_attributes_and_markers);
     TU_RUN(test_node_rejects_bad_headers_ids_and_counts);
     TU_RUN(test_ply_ascii_with_other_properties_and_faces);
+    TU_RUN(test_ply_ascii_smallest_data_without_final_newline);
     TU_RUN(test_ply_binary_little_endian_reads_float_and_double_among_lists);
     TU_RUN(test_ply_rejects_bad_headers_counts_and_values);
     TU_RUN(test_bin_round_trips_and_rejects_bad_sizes_and_values);

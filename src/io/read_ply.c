@@ -147,7 +147,9 @@ static io_status ply_vertices(const char *name, const char *buf, size_t len, con
         const ply_prop *pr = &e->props[j];
         min += h->binary ? (size_t)ply_type_size(pr->count_type >= 0 ? pr->count_type : pr->type) : 2;
     }
-    if (e->count > (len - h->data) / min)
+    /* an ascii value takes 2 bytes with its separator, and the file's last value none: 4
+     * vertices "0 0 0\n...0 0 1" without a final newline are 23 bytes, not 24 */
+    if (e->count > (len - h->data + !h->binary) / min)
         return io_fail(err, IO_ERR_INPUT, "%s: the header claims %llu vertices, more than the %zu "
                        "bytes after it can hold", name, (unsigned long long)e->count, len - h->data);
     double *a = malloc((size_t)e->count * 3 * sizeof(double));
