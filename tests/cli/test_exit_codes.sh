@@ -22,6 +22,11 @@ expect 1 "unknown command" -- "$G" frobnicate
 expect 1 "unknown option" -- "$G" triangulate ok.xyz --bogus
 expect 1 "no input" -- "$G" triangulate
 expect 1 "more than one input" -- "$G" triangulate ok.xyz ok.xyz
+# "--" ends the options (POSIX): a file whose name starts with '-'
+cp ok.xyz ./-dash.xyz
+expect 0 "" -- "$G" triangulate -q -- -dash.xyz
+expect 1 "unknown option '-dash.xyz'" -- "$G" triangulate -dash.xyz
+expect 1 "more than one input" -- "$G" triangulate ok.xyz -- -q
 for t in -1 abc 1.5 "" 99999999999999999999 1025 2147483648 " 4" 0x4; do
     expect 1 "thread count" -- "$G" triangulate ok.xyz -t "$t"
 done
