@@ -125,6 +125,10 @@ class Delaunay:
         threads = operator.index(threads)
         if threads < 0:
             raise ValueError("threads must be >= 0 (0: all cores)")
+        # the kernel uses at most 255 (gigatet.h), so any larger count means 255; passed on
+        # as it was, 2**31 and more raised "OverflowError: signed integer is greater than
+        # maximum", which names no argument
+        threads = min(threads, 255)
         if memory_limit is None:
             limit = 0
         elif isinstance(memory_limit, str) and memory_limit == "off":
@@ -133,6 +137,9 @@ class Delaunay:
             limit = operator.index(memory_limit)
             if limit <= 0:
                 raise ValueError("memory_limit must be None, 'off' or a number of bytes > 0")
+            # more bytes than an address space holds limit nothing ("off"); the C side takes
+            # a Py_ssize_t, which 2**63 and more overflowed with a message naming no argument
+            limit = min(limit, (1 << 62))
         self._adopt(_gigatet.triangulate(pts, threads, bool(check), limit))
         # the kernel starts only the threads the system lets it (ulimit -u, pids.max) and
         # OpenMP gives (NOTES.md E183, E184): libgomp would end the interpreter otherwise;

@@ -53,6 +53,11 @@ def test_bad_shapes_and_types():
         gigatet.Delaunay(cube_points(10), threads=-1)
     with pytest.raises(TypeError):
         gigatet.Delaunay(cube_points(10), threads=1.5)
+    # counts past the kernel's 255 mean 255, however large (2**31 raised OverflowError)
+    ref = gigatet.Delaunay(cube_points(10), threads=1)
+    for many in (256, 2**31, 10**30):
+        d = gigatet.Delaunay(cube_points(10), threads=many)
+        assert d.nsimplex == ref.nsimplex
 
 
 def test_errors():
@@ -100,6 +105,7 @@ def test_memory_limit():
     n = gigatet.Delaunay(pts).nsimplex
     assert gigatet.Delaunay(pts, memory_limit="off").nsimplex == n
     assert gigatet.Delaunay(pts, memory_limit=1 << 34).nsimplex == n
+    assert gigatet.Delaunay(pts, memory_limit=10**30).nsimplex == n   # was OverflowError
     for bad in (0, -5, "on"):
         with pytest.raises((ValueError, TypeError)):
             gigatet.Delaunay(pts, memory_limit=bad)
