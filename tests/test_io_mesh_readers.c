@@ -212,6 +212,15 @@ static void test_ele_variants(void)
         TEST_CHECK(io_read_mesh(path, &m, &er) == IO_OK && same_mesh(&m, 0), "%s: %s", path,
                    er.message);
         io_mesh_free(&m);
+        /* MESH.ELE beside MESH.NODE, as tools on case-insensitive file systems write them */
+        snprintf(name, sizeof name, "U%d.NODE", base);
+        write_file(name, &n);
+        snprintf(name, sizeof name, "U%d.ELE", base);
+        write_file(name, &e);
+        snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+        TEST_CHECK(io_read_mesh(path, &m, &er) == IO_OK && same_mesh(&m, 0), "%s: %s", path,
+                   er.message);
+        io_mesh_free(&m);
         bb bad = {0};
         pf(&bad, "1 4 1\n%d 1 2 3 %d 0\n", base, 7 + base);
         expect_fail(IO_FMT_ELE, "bad.ele", &bad, &n, "vertex id");

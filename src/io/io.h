@@ -190,7 +190,8 @@ void io_mesh_free(io_mesh *mesh);
  * destination. */
 io_status io_check_writable(const char *path, io_error *err);
 
-/* For .ele: the .node path written / read beside it (malloc'ed), else NULL. */
+/* For .ele: the .node path written / read beside it (malloc'ed), else NULL; .NODE beside an
+ * upper-case .ELE. */
 char *io_ele_node_path(const char *path);
 
 /* ---- surface meshes (triangles) ---------------------------------------------------------- */
