@@ -592,6 +592,51 @@ static void test_vtu_variants(void)
                 }
 }
 
+/* Integer coordinates (meshio writes an integer points array as Int64; VTK reads it): ascii
+ * and inline binary, negative values included; one past 2^53 is refused (not a double). */
+static void vtu_int_points(bb *b, int binary, int64_t big)
+{
+    static const int64_t P[4][3] = {{-3, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, -1}};
+    pf(b, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+          "byte_order=\"LittleEndian\" header_type=\"UInt32\">\n<UnstructuredGrid>\n"
+          "<Piece NumberOfCells=\"1\" NumberOfPoints=\"4\">\n<Points>\n<DataArray "
+          "type=\"Int64\" Name=\"points\" NumberOfComponents=\"3\" format=\"%s\">\n",
+       binary ? "binary" : "ascii");
+    if (binary) {
+        bb d = {0};
+        le(&d, 96, 4);
+        for (int i = 0; i < 12; i++) le(&d, (uint64_t)(i == 4 ? big : P[i / 3][i % 3]), 8);
+        b64(b, d.p, d.n);
+        free(d.p);
+    } else {
+        for (int i = 0; i < 12; i++) pf(b, "%lld ", (long long)(i == 4 ? big : P[i / 3][i % 3]));
+    }
+    pf(b, "\n</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
+          "format=\"ascii\">0 1 2 3</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" "
+          "format=\"ascii\">4</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" "
+          "format=\"ascii\">10</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+}
+
+static void test_vtu_integer_points(void)
+{
+    for (int binary = 0; binary <= 1; binary++) {
+        bb b = {0};
+        vtu_int_points(&b, binary, 0);
+        io_mesh m;
+        io_error e;
+        io_status s = io_parse_mesh(IO_FMT_VTU, "int.vtu", b.p, b.n, NULL, 0, &m, &e);
+        TEST_CHECK(s == IO_OK && m.nv == 4 && m.nt == 1 && m.vertices[0] == -3 &&
+                   m.vertices[7] == 2 && m.vertices[11] == -1, "binary %d: status %d (%s)",
+                   binary, s, s == IO_OK ? "" : e.message);
+        io_mesh_free(&m);
+        free(b.p);
+    }
+    bb b = {0};
+    vtu_int_points(&b, 1, ((int64_t)1 << 53) + 1);
+    expect_fail(IO_FMT_VTU, "big.vtu", &b, NULL, "is not a double exactly");
+    free(b.p);
+}
+
 static void test_vtu_malformed(void)
 {
     bb b = {0}, x;
@@ -677,6 +722,7 @@ int main(void)
     TU_RUN(test_msh_variants);
     TU_RUN(test_msh_malformed);
     TU_RUN(test_vtu_variants);
+    TU_RUN(test_vtu_integer_points);
     TU_RUN(test_vtu_malformed);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);

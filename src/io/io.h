@@ -50,7 +50,7 @@
  *          base64) or "appended" (<AppendedData encoding="raw" or "base64">), header_type
  *          UInt32 or UInt64, uncompressed or compressor="vtkZLibDataCompressor" (LZ4 and
  *          LZMA are refused by name), byte_order="LittleEndian" (BigEndian is refused).
- *          Points Float32 or Float64; connectivity and offsets any integer type (offsets as
+ *          Points Float32, Float64 or any integer type (each within 2^53); connectivity and offsets any integer type (offsets as
  *          the NumberOfCells cell ends, or NumberOfCells+1 starts beginning with 0); types
  *          any integer type.  Attribute order inside a tag does not matter.  Cells other than
  *          VTK_TETRA (10) are skipped and counted; VTK_QUADRATIC_TETRA (24) is skipped too.
