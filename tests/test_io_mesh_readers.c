@@ -278,21 +278,6 @@ static void test_ele_quadratic(void)
     }
 }
 
-/* A mesh file saved as UTF-16 (Windows PowerShell) is refused naming the encoding. */
-static void test_mesh_utf16(void)
-{
-    bb n = {0}, e = {0}, m = {0};
-    node_file(&n, 0);
-    put(&e, "\xFF\xFE" "2\0 \0" "4\0", 8);
-    expect_fail(IO_FMT_ELE, "u.ele", &e, &n, "the file is UTF-16LE text");
-    put(&m, "\xFE\xFF\0$\0M", 6);
-    expect_fail(IO_FMT_MSH, "u.msh", &m, NULL, "the file is UTF-16BE text");
-    expect_fail(IO_FMT_VTU, "u.vtu", &m, NULL, "the file is UTF-16BE text");
-    free(n.p);
-    free(e.p);
-    free(m.p);
-}
-
 /* ---- Gmsh --------------------------------------------------------------------------------- */
 
 static void msh41_ascii(bb *b)
@@ -718,7 +703,6 @@ int main(void)
     }
     TU_RUN(test_ele_variants);
     TU_RUN(test_ele_quadratic);
-    TU_RUN(test_mesh_utf16);
     TU_RUN(test_msh_variants);
     TU_RUN(test_msh_malformed);
     TU_RUN(test_vtu_variants);

@@ -394,6 +394,25 @@ static void test_text_formats_name_a_utf16_or_utf32_file(void)
     REJECT(IO_FMT_OFF, "\xFF\xFE\0\0" "O\0\0\0", "in.dat: the file is UTF-32LE text",
            "iconv -f UTF-32 -t UTF-8");
     REJECT(IO_FMT_PLY, "\0\0\xFE\xFF" "\0\0\0p", "in.dat: the file is UTF-32BE text", NULL);
+    /* the mesh readers too (.ele and its .node, .msh, .vtu) */
+    static const char node[] = "4 3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
+    static const char u16[] = "\xFF\xFE" "1\0 \0" "4\0";
+    static const struct { io_format f; const char *name, *d, *n; size_t dl, nl; } m[] = {
+        {IO_FMT_ELE, "u.ele", u16, node, sizeof u16 - 1, sizeof node - 1},
+        {IO_FMT_ELE, "u.ele", "1 4\n1 1 2 3 4\n", u16, 14, sizeof u16 - 1},
+        {IO_FMT_MSH, "u.msh", u16, NULL, sizeof u16 - 1, 0},
+        {IO_FMT_VTU, "u.vtu", u16, NULL, sizeof u16 - 1, 0},
+    };
+    for (size_t k = 0; k < sizeof m / sizeof m[0]; k++) {
+        io_mesh mesh;
+        io_error e;
+        io_status s = io_parse_mesh(m[k].f, m[k].name, m[k].d, m[k].dl, m[k].n, m[k].nl, &mesh,
+                                    &e);
+        TEST_CHECK(s == IO_ERR_INPUT && strstr(e.message, "the file is UTF-16LE text") &&
+                   strstr(e.message, k == 1 ? "u.node" : m[k].name), "case %zu: status %d, '%s'",
+                   k, s, e.message);
+        io_mesh_free(&mesh);
+    }
 }
 
 /* NOTES.md E153: a PLY element without properties (legal; its items have no bytes, and in
