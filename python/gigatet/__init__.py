@@ -44,6 +44,16 @@ _CHECK_DELAUNAY = _gigatet.CHECK_DELAUNAY
 def _as_points(points, what="points"):
     """Any real array of shape (..., 3) -> C-contiguous float64 (a copy only if needed)."""
     a = np.asarray(points)
+    if a.dtype.kind == "O" and a.size:
+        # numbers numpy holds as objects (ints past 2**64, Fractions, Decimals, a pandas
+        # frame's mixed columns): converted as scipy converts them; text, complex and None
+        # are no real numbers (numpy would parse the text and take None for a NaN)
+        if any(x is None or isinstance(x, (str, bytes, complex)) for x in a.flat):
+            raise TypeError("%s must be real numbers, not text, complex or None" % what)
+        try:
+            a = a.astype(np.float64)
+        except (TypeError, ValueError) as e:
+            raise TypeError("%s must be real numbers: %s" % (what, e)) from None
     if a.dtype.kind not in "fiub":
         raise TypeError("%s must be real numbers, not %s" % (what, a.dtype))
     if a.ndim < 1 or a.shape[-1] != 3:
