@@ -143,29 +143,32 @@ static void test_ply_ascii_with_other_properties_and_faces(void)
 }
 
 /* Little-endian byte writers for the binary cases. */
-static unsigned char *put(unsigned char *q, const void *v, size_t size)
+/* One scalar in the file's byte order (the machine's, little-endian, checked in main; big:
+ * reversed). */
+static unsigned char *put_order(unsigned char *q, const void *v, size_t size, int big)
 {
-    memcpy(q, v, size); /* the test machine is little-endian (checked in main) */
+    const unsigned char *b = v;
+    for (size_t i = 0; i < size; i++) q[i] = b[big ? size - 1 - i : i];
     return q + size;
 }
 
-static size_t binary_ply(unsigned char *buf, uint64_t count, int nan_at)
+static size_t binary_ply_order(unsigned char *buf, uint64_t count, int nan_at, int big)
 {
     int l = sprintf((char *)buf,
-                    "ply\nformat binary_little_endian 1.0\nelement material 2\nproperty int id\n"
+                    "ply\nformat binary_%s_endian 1.0\nelement material 2\nproperty int id\n"
                     "property list uchar short ks\nelement vertex %llu\nproperty uchar tag\n"
                     "property float x\nproperty double y\nproperty list ushort float w\n"
                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                    "end_header\n", (unsigned long long)count);
+                    "end_header\n", big ? "big" : "little", (unsigned long long)count);
     unsigned char *q = buf + l;
     for (int m = 0; m < 2; m++) {
         int32_t id = m;
         unsigned char k = (unsigned char)(m + 1);
-        q = put(q, &id, 4);
-        q = put(q, &k, 1);
+        q = put_order(q, &id, 4, big);
+        q = put_order(q, &k, 1, big);
         for (int j = 0; j < k; j++) {
             int16_t s = (int16_t)-j;
-            q = put(q, &s, 2);
+            q = put_order(q, &s, 2, big);
         }
     }
     for (int i = 0; i < 3 && (uint64_t)i < count; i++) {
@@ -173,18 +176,23 @@ static size_t binary_ply(unsigned char *buf, uint64_t count, int nan_at)
         float x = (float)i + 0.1f, z = nan_at == i ? NAN : -1.5f * (float)i;
         double y = 1.0 / 3.0 + i;
         uint16_t nw = (uint16_t)i;
-        q = put(q, &tag, 1);
-        q = put(q, &x, 4);
-        q = put(q, &y, 8);
-        q = put(q, &nw, 2);
-        for (int j = 0; j < i; j++) q = put(q, &x, 4);
-        q = put(q, &z, 4);
+        q = put_order(q, &tag, 1, big);
+        q = put_order(q, &x, 4, big);
+        q = put_order(q, &y, 8, big);
+        q = put_order(q, &nw, 2, big);
+        for (int j = 0; j < i; j++) q = put_order(q, &x, 4, big);
+        q = put_order(q, &z, 4, big);
     }
     unsigned char three = 3;
     int32_t f[3] = {0, 1, 2};
-    q = put(q, &three, 1);
-    q = put(q, f, 12);
+    q = put_order(q, &three, 1, big);
+    for (int j = 0; j < 3; j++) q = put_order(q, &f[j], 4, big);
     return (size_t)(q - buf);
+}
+
+static size_t binary_ply(unsigned char *buf, uint64_t count, int nan_at)
+{
+    return binary_ply_order(buf, count, nan_at, 0);
 }
 
 /* The smallest ascii data: one-character values and no newline after the last one (the size
@@ -206,21 +214,32 @@ static void test_ply_ascii_smallest_data_without_final_newline(void)
            "in.dat", NULL);
 }
 
+/* binary_little_endian, and the same file binary_big_endian (refused before: files from SGI
+ * machines and some scanners' tools are big-endian) */
 static void test_ply_binary_little_endian_reads_float_and_double_among_lists(void)
 {
-    unsigned char buf[2048];
-    size_t len = binary_ply(buf, 3, -1);
-    double *p;
-    size_t n;
-    io_error e;
-    TEST_REQUIRE(parse(IO_FMT_PLY, "b.ply", buf, len, &p, &n, &e) == IO_OK, "%s", e.message);
-    TEST_REQUIRE(n == 3, "n = %zu", n);
-    for (int i = 0; i < 3; i++) {
-        TEST_CHECK(same_bits(p[3 * i], (double)((float)i + 0.1f)), "x of vertex %d = %a", i, p[3 * i]);
-        TEST_CHECK(same_bits(p[3 * i + 1], 1.0 / 3.0 + i), "y of vertex %d = %a", i, p[3 * i + 1]);
-        TEST_CHECK(p[3 * i + 2] == -1.5 * i, "z of vertex %d = %a", i, p[3 * i + 2]);
+    for (int big = 0; big <= 1; big++) {
+        unsigned char buf[2048];
+        size_t len = binary_ply_order(buf, 3, -1, big);
+        double *p;
+        size_t n;
+        io_error e;
+        TEST_REQUIRE(parse(IO_FMT_PLY, "b.ply", buf, len, &p, &n, &e) == IO_OK, "big %d: %s",
+                     big, e.message);
+        TEST_REQUIRE(n == 3, "n = %zu", n);
+        for (int i = 0; i < 3; i++) {
+            TEST_CHECK(same_bits(p[3 * i], (double)((float)i + 0.1f)), "x of vertex %d = %a", i,
+                       p[3 * i]);
+            TEST_CHECK(same_bits(p[3 * i + 1], 1.0 / 3.0 + i), "y of vertex %d = %a", i,
+                       p[3 * i + 1]);
+            TEST_CHECK(p[3 * i + 2] == -1.5 * i, "z of vertex %d = %a", i, p[3 * i + 2]);
+        }
+        free(p);
+        len = binary_ply_order(buf, 3, 1, big);
+        expect_error(IO_FMT_PLY, buf, len, "vertex 1", "NaN", __LINE__);
+        len = binary_ply_order(buf, 3, -1, big);
+        expect_error(IO_FMT_PLY, buf, len - 20, "ends inside vertex 2", NULL, __LINE__);
     }
-    free(p);
 }
 
 static void test_ply_rejects_bad_headers_counts_and_values(void)
@@ -234,7 +253,7 @@ static void test_ply_rejects_bad_headers_counts_and_values(void)
     expect_error(IO_FMT_PLY, buf, len, "claims 1152921504606846976 vertices", NULL, __LINE__);
     REJECT(IO_FMT_PLY, "", "in.dat", "end_header");
     REJECT(IO_FMT_PLY, "plx\nformat ascii 1.0\nend_header\n", "in.dat:1:", "not a PLY");
-    REJECT(IO_FMT_PLY, "ply\nformat binary_big_endian 1.0\nend_header\n", "in.dat:2:", "unsupported");
+    REJECT(IO_FMT_PLY, "ply\nformat binary_middle_endian 1.0\nend_header\n", "in.dat:2:", "unsupported");
     REJECT(IO_FMT_PLY, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
            "end_header\n0 0\n", "in.dat", "lacks property z");
     REJECT(IO_FMT_PLY, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"

@@ -8,7 +8,7 @@
  *   .xyz   text, "x y z" per line; '#' starts a comment; blank lines are ignored.
  *   .node  TetGen: header "n [dim [attrs [markers]]]" (dim must be 3), then
  *          "id x y z [attrs...] [marker]"; ids consecutive from 0 or from 1; '#' comments.
- *   .ply   "ascii 1.0" or "binary_little_endian 1.0"; a "vertex" element with scalar
+ *   .ply   "ascii 1.0", "binary_little_endian 1.0" or "binary_big_endian 1.0"; a "vertex" element with scalar
  *          properties x, y, z among any others (lists included); other elements may come
  *          before or after it; faces are ignored.
  *   .bin   little-endian uint64 count, then count*3 little-endian doubles, nothing after.

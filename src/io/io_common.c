@@ -46,7 +46,7 @@ const io_format_info io_formats[IO_FMT_COUNT] = {
     {IO_FMT_NODE, ".node", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
      "points: TetGen, 0- or 1-based (written 1-based)"},
     {IO_FMT_PLY, ".ply", IO_READ_POINTS | IO_WRITE_POINTS | IO_READ_SURFACE, NULL,
-     "points or surface: PLY ascii or binary_little_endian (written binary, double x y z)"},
+     "points or surface: PLY ascii or binary, either endian (written little-endian, double x y z)"},
     {IO_FMT_BIN, ".bin", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
      "points: little-endian uint64 count, then count*3 little-endian doubles"},
     {IO_FMT_ELE, ".ele", IO_READ_MESH | IO_WRITE_MESH, ".node",

@@ -114,8 +114,13 @@ printf '4 2 0 0\n1 0 0\n2 1 0\n3 0 1\n4 1 1\n' > dim2.node
 expect 2 "dim2.node:1: the dimension is 2" -- "$G" triangulate dim2.node
 printf '5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n' > fewer.node
 expect 2 "fewer.node:5: the file ends after 4 of the 5 points" -- "$G" triangulate fewer.node
-printf 'ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nend_header\n' > big_endian.ply
-expect 2 "big_endian.ply:2: unsupported PLY format" -- "$G" triangulate big_endian.ply
+# binary_big_endian is read (float 1.0 is 3f 80 00 00): the tet of the unit corners
+printf 'ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nend_header\n' > big_endian.ply
+printf '\0\0\0\0\0\0\0\0\0\0\0\0\077\200\0\0\0\0\0\0\0\0\0\0\0\0\0\0\077\200\0\0\0\0\0\0\0\0\0\0\0\0\0\0\077\200\0\0' >> big_endian.ply
+expect 0 "" -- "$G" triangulate big_endian.ply -o big_endian.ele
+grep -qx '4 0 0 1' big_endian.node && pass "big-endian z read" || fail "big_endian.node: $(cat big_endian.node)"
+printf 'ply\nformat binary_middle_endian 1.0\nelement vertex 4\nproperty float x\nend_header\n' > mid_endian.ply
+expect 2 "mid_endian.ply:2: unsupported PLY format" -- "$G" triangulate mid_endian.ply
 printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nend_header\n0 0\n' > noz.ply
 expect 2 "noz.ply: the vertex element lacks property z" -- "$G" triangulate noz.ply
 printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n' > noend.ply
