@@ -8,9 +8,9 @@
  *   .xyz   text, "x y z" per line; '#' starts a comment; blank lines are ignored.
  *   .node  TetGen: header "n [dim [attrs [markers]]]" (dim must be 3), then
  *          "id x y z [attrs...] [marker]"; ids consecutive from 0 or from 1; '#' comments.
- *   .ply   "ascii 1.0", "binary_little_endian 1.0" or "binary_big_endian 1.0"; a "vertex" element with scalar
- *          properties x, y, z among any others (lists included); other elements may come
- *          before or after it; faces are ignored.
+ *   .ply   "ascii 1.0", "binary_little_endian 1.0" or "binary_big_endian 1.0"; a "vertex"
+ *          element with scalar properties x, y, z among any others (lists included); other
+ *          elements may come before or after it; faces are ignored.
  *   .bin   little-endian uint64 count, then count*3 little-endian doubles, nothing after.
  * Numbers are parsed with strtod in the "C" locale (correctly rounded; hex floats accepted).
  * Every malformed input is rejected with a message naming the file and the line (text) or
@@ -50,10 +50,11 @@
  *          base64) or "appended" (<AppendedData encoding="raw" or "base64">), header_type
  *          UInt32 or UInt64, uncompressed or compressor="vtkZLibDataCompressor" (LZ4 and
  *          LZMA are refused by name), byte_order="LittleEndian" (BigEndian is refused).
- *          Points Float32, Float64 or any integer type (each within 2^53); connectivity and offsets any integer type (offsets as
- *          the NumberOfCells cell ends, or NumberOfCells+1 starts beginning with 0); types
- *          any integer type.  Attribute order inside a tag does not matter.  Cells other than
- *          VTK_TETRA (10) are skipped and counted; VTK_QUADRATIC_TETRA (24) is skipped too.
+ *          Points Float32, Float64 or any integer type (each within 2^53); connectivity and
+ *          offsets any integer type (offsets as the NumberOfCells cell ends, or
+ *          NumberOfCells+1 starts beginning with 0); types any integer type.  Attribute
+ *          order inside a tag does not matter.  Cells other than VTK_TETRA (10) are skipped
+ *          and counted; VTK_QUADRATIC_TETRA (24) is skipped too.
  *   What every reader returns: distinct vertex arrays as in the file (unused vertices are
  *   kept), tets as 4 vertex indices (range-checked, 0-based, in the file's orientation),
  *   and the count of skipped cells.  Every malformed file fails with IO_ERR_INPUT and a
