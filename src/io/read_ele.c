@@ -12,8 +12,8 @@
  * the .node; kept, they would be vertices in no tet, and `check` would fail a Delaunay mesh
  * for them ("vertex 792 ... is in no tet").  So the trailing run of nodes that no tet names as
  * a corner and some tet names as a mid-edge node is dropped: the vertices left keep their
- * positions in the file, which is what check's messages number.  A node before the last
- * corner, or after it but named by no tet, is kept (as in a 4-node file).
+ * positions in the file, which is what check's messages number.  Any node before that run
+ * (a duplicate input point TetGen kept, in no tet) is kept, as in a 4-node file.
  */
 #include "io_internal.h"
 
@@ -86,9 +86,9 @@ static void drop_mid_nodes(io_mesh *m, const unsigned char *mid)
     size_t last = 0;   /* 1 + the largest corner id */
     for (size_t k = 0; k < 4 * m->nt; k++)
         if (m->tets[k] + (size_t)1 > last) last = m->tets[k] + (size_t)1;
-    for (size_t v = last; v < m->nv; v++)
-        if (!mid[v]) return;
-    if (last > 0) m->nv = last;
+    size_t nv = m->nv;
+    while (nv > last && mid[nv - 1]) nv--;
+    if (nv > 0) m->nv = nv;
 }
 
 io_status io_parse_ele(const char *name, const char *buf, size_t len, const char *node_name,
