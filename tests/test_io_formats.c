@@ -50,9 +50,14 @@ static void test_capabilities_and_lists(void)
 
 static void test_ele_companion_path(void)
 {
-    char *p = io_ele_node_path("out/m.ELE");
-    TEST_CHECK(p && !strcmp(p, "out/m.node"), "%s", p ? p : "(null)");
-    free(p);
+    /* the companion's case follows an upper-case extension (NOTES.md E241), else lower */
+    static const char *const cases[][2] = {
+        {"out/m.ELE", "out/m.NODE"}, {"out/m.ele", "out/m.node"}, {"out/M.Ele", "out/M.node"}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *p = io_ele_node_path(cases[i][0]);
+        TEST_CHECK(p && !strcmp(p, cases[i][1]), "%s -> %s", cases[i][0], p ? p : "(null)");
+        free(p);
+    }
     TEST_CHECK(io_ele_node_path("m.vtu") == NULL, "only .ele has a companion");
 }
 

@@ -212,6 +212,15 @@ static void test_ele_variants(void)
         TEST_CHECK(io_read_mesh(path, &m, &er) == IO_OK && same_mesh(&m, 0), "%s: %s", path,
                    er.message);
         io_mesh_free(&m);
+        /* MESH.ELE beside MESH.NODE, as tools on case-insensitive file systems write them */
+        snprintf(name, sizeof name, "U%d.NODE", base);
+        write_file(name, &n);
+        snprintf(name, sizeof name, "U%d.ELE", base);
+        write_file(name, &e);
+        snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+        TEST_CHECK(io_read_mesh(path, &m, &er) == IO_OK && same_mesh(&m, 0), "%s: %s", path,
+                   er.message);
+        io_mesh_free(&m);
         bb bad = {0};
         pf(&bad, "1 4 1\n%d 1 2 3 %d 0\n", base, 7 + base);
         expect_fail(IO_FMT_ELE, "bad.ele", &bad, &n, "vertex id");
@@ -226,6 +235,47 @@ static void test_ele_variants(void)
         free(n.p);
         free(e.p);
         free(bad.p);
+    }
+}
+
+/* 10-node tets as TetGen's -o2 writes them: the mid-edge nodes after every corner in the
+ * .node.  They are dropped (the corners keep their numbers); a node after them that no tet
+ * names (extra 1) is kept, and with it the mid-edge nodes before it; one between the corners
+ * and the mid-edge nodes (extra 2) is kept alone. */
+static void test_ele_quadratic(void)
+{
+    for (int base = 0; base <= 1; base++) {
+        for (int extra = 0; extra <= 2; extra++) {
+            bb n = {0}, e = {0};
+            int nv = 6 + 12 + (extra > 0), mid0 = 6 + (extra == 2);
+            pf(&n, "%d 3 0 0\n", nv);
+            for (int i = 0; i < nv; i++) {
+                const double *p = V[i < 6 ? i : i % 6];
+                pf(&n, "%d %.17g %.17g %.17g\n", i + base, p[0] + (i >= 6), p[1], p[2]);
+            }
+            pf(&e, "2 10 1\n");
+            for (int t = 0; t < 2; t++) {
+                pf(&e, "%d %u %u %u %u", t + base, T[t][0] + base, T[t][1] + base,
+                   T[t][2] + base, T[t][3] + base);
+                for (int k = 0; k < 6; k++) pf(&e, " %d", mid0 + 6 * t + k + base);
+                pf(&e, " -1.5\n");
+            }
+            char name[32];
+            snprintf(name, sizeof name, "q%d%d.ele", base, extra);
+            if (!extra) {
+                expect_mesh(IO_FMT_ELE, name, &e, &n, 0, 0);
+            } else {
+                io_mesh m;
+                io_error er;
+                io_status s = io_parse_mesh(IO_FMT_ELE, name, e.p, e.n, n.p, n.n, &m, &er);
+                TEST_CHECK(s == IO_OK && m.nv == (extra == 1 ? 19u : 7u) && m.nt == 2 &&
+                           memcmp(m.tets, T, sizeof T) == 0, "%s: status %d (%s), nv %zu",
+                           name, s, er.message, m.nv);
+                io_mesh_free(&m);
+            }
+            free(n.p);
+            free(e.p);
+        }
     }
 }
 
@@ -528,6 +578,51 @@ static void test_vtu_variants(void)
                 }
 }
 
+/* Integer coordinates (meshio writes an integer points array as Int64; VTK reads it): ascii
+ * and inline binary, negative values included; one past 2^53 is refused (not a double). */
+static void vtu_int_points(bb *b, int binary, int64_t big)
+{
+    static const int64_t P[4][3] = {{-3, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, -1}};
+    pf(b, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+          "byte_order=\"LittleEndian\" header_type=\"UInt32\">\n<UnstructuredGrid>\n"
+          "<Piece NumberOfCells=\"1\" NumberOfPoints=\"4\">\n<Points>\n<DataArray "
+          "type=\"Int64\" Name=\"points\" NumberOfComponents=\"3\" format=\"%s\">\n",
+       binary ? "binary" : "ascii");
+    if (binary) {
+        bb d = {0};
+        le(&d, 96, 4);
+        for (int i = 0; i < 12; i++) le(&d, (uint64_t)(i == 4 ? big : P[i / 3][i % 3]), 8);
+        b64(b, d.p, d.n);
+        free(d.p);
+    } else {
+        for (int i = 0; i < 12; i++) pf(b, "%lld ", (long long)(i == 4 ? big : P[i / 3][i % 3]));
+    }
+    pf(b, "\n</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
+          "format=\"ascii\">0 1 2 3</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" "
+          "format=\"ascii\">4</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" "
+          "format=\"ascii\">10</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+}
+
+static void test_vtu_integer_points(void)
+{
+    for (int binary = 0; binary <= 1; binary++) {
+        bb b = {0};
+        vtu_int_points(&b, binary, 0);
+        io_mesh m;
+        io_error e;
+        io_status s = io_parse_mesh(IO_FMT_VTU, "int.vtu", b.p, b.n, NULL, 0, &m, &e);
+        TEST_CHECK(s == IO_OK && m.nv == 4 && m.nt == 1 && m.vertices[0] == -3 &&
+                   m.vertices[7] == 2 && m.vertices[11] == -1, "binary %d: status %d (%s)",
+                   binary, s, s == IO_OK ? "" : e.message);
+        io_mesh_free(&m);
+        free(b.p);
+    }
+    bb b = {0};
+    vtu_int_points(&b, 1, ((int64_t)1 << 53) + 1);
+    expect_fail(IO_FMT_VTU, "big.vtu", &b, NULL, "is not a double exactly");
+    free(b.p);
+}
+
 static void test_vtu_malformed(void)
 {
     bb b = {0}, x;
@@ -608,9 +703,11 @@ int main(void)
         return 1;
     }
     TU_RUN(test_ele_variants);
+    TU_RUN(test_ele_quadratic);
     TU_RUN(test_msh_variants);
     TU_RUN(test_msh_malformed);
     TU_RUN(test_vtu_variants);
+    TU_RUN(test_vtu_integer_points);
     TU_RUN(test_vtu_malformed);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);

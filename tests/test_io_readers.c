@@ -143,29 +143,32 @@ static void test_ply_ascii_with_other_properties_and_faces(void)
 }
 
 /* Little-endian byte writers for the binary cases. */
-static unsigned char *put(unsigned char *q, const void *v, size_t size)
+/* One scalar in the file's byte order (the machine's, little-endian, checked in main; big:
+ * reversed). */
+static unsigned char *put_order(unsigned char *q, const void *v, size_t size, int big)
 {
-    memcpy(q, v, size); /* the test machine is little-endian (checked in main) */
+    const unsigned char *b = v;
+    for (size_t i = 0; i < size; i++) q[i] = b[big ? size - 1 - i : i];
     return q + size;
 }
 
-static size_t binary_ply(unsigned char *buf, uint64_t count, int nan_at)
+static size_t binary_ply_order(unsigned char *buf, uint64_t count, int nan_at, int big)
 {
     int l = sprintf((char *)buf,
-                    "ply\nformat binary_little_endian 1.0\nelement material 2\nproperty int id\n"
+                    "ply\nformat binary_%s_endian 1.0\nelement material 2\nproperty int id\n"
                     "property list uchar short ks\nelement vertex %llu\nproperty uchar tag\n"
                     "property float x\nproperty double y\nproperty list ushort float w\n"
                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                    "end_header\n", (unsigned long long)count);
+                    "end_header\n", big ? "big" : "little", (unsigned long long)count);
     unsigned char *q = buf + l;
     for (int m = 0; m < 2; m++) {
         int32_t id = m;
         unsigned char k = (unsigned char)(m + 1);
-        q = put(q, &id, 4);
-        q = put(q, &k, 1);
+        q = put_order(q, &id, 4, big);
+        q = put_order(q, &k, 1, big);
         for (int j = 0; j < k; j++) {
             int16_t s = (int16_t)-j;
-            q = put(q, &s, 2);
+            q = put_order(q, &s, 2, big);
         }
     }
     for (int i = 0; i < 3 && (uint64_t)i < count; i++) {
@@ -173,35 +176,70 @@ static size_t binary_ply(unsigned char *buf, uint64_t count, int nan_at)
         float x = (float)i + 0.1f, z = nan_at == i ? NAN : -1.5f * (float)i;
         double y = 1.0 / 3.0 + i;
         uint16_t nw = (uint16_t)i;
-        q = put(q, &tag, 1);
-        q = put(q, &x, 4);
-        q = put(q, &y, 8);
-        q = put(q, &nw, 2);
-        for (int j = 0; j < i; j++) q = put(q, &x, 4);
-        q = put(q, &z, 4);
+        q = put_order(q, &tag, 1, big);
+        q = put_order(q, &x, 4, big);
+        q = put_order(q, &y, 8, big);
+        q = put_order(q, &nw, 2, big);
+        for (int j = 0; j < i; j++) q = put_order(q, &x, 4, big);
+        q = put_order(q, &z, 4, big);
     }
     unsigned char three = 3;
     int32_t f[3] = {0, 1, 2};
-    q = put(q, &three, 1);
-    q = put(q, f, 12);
+    q = put_order(q, &three, 1, big);
+    for (int j = 0; j < 3; j++) q = put_order(q, &f[j], 4, big);
     return (size_t)(q - buf);
 }
 
+static size_t binary_ply(unsigned char *buf, uint64_t count, int nan_at)
+{
+    return binary_ply_order(buf, count, nan_at, 0);
+}
+
+/* The smallest ascii data: one-character values and no newline after the last one (the size
+ * check before the allocation counted a separator after it and refused the file). */
+static void test_ply_ascii_smallest_data_without_final_newline(void)
+{
+    static const char txt[] = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                              "property float y\nproperty float z\nend_header\n"
+                              "0 0 0\n1 0 0\n0 1 0\n0 0 1";
+    double *p = NULL;
+    size_t n = 0;
+    io_error e;
+    io_status s = parse(IO_FMT_PLY, "min.ply", txt, sizeof txt - 1, &p, &n, &e);
+    TEST_CHECK(s == IO_OK && n == 4 && p[3] == 1 && p[11] == 1, "status %d (%s), n %zu", s,
+               s == IO_OK ? "" : e.message, n);
+    free(p);
+    REJECT(IO_FMT_PLY, "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                       "property float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0",
+           "in.dat", NULL);
+}
+
+/* binary_little_endian, and the same file binary_big_endian (refused before: files from SGI
+ * machines and some scanners' tools are big-endian) */
 static void test_ply_binary_little_endian_reads_float_and_double_among_lists(void)
 {
-    unsigned char buf[2048];
-    size_t len = binary_ply(buf, 3, -1);
-    double *p;
-    size_t n;
-    io_error e;
-    TEST_REQUIRE(parse(IO_FMT_PLY, "b.ply", buf, len, &p, &n, &e) == IO_OK, "%s", e.message);
-    TEST_REQUIRE(n == 3, "n = %zu", n);
-    for (int i = 0; i < 3; i++) {
-        TEST_CHECK(same_bits(p[3 * i], (double)((float)i + 0.1f)), "x of vertex %d = %a", i, p[3 * i]);
-        TEST_CHECK(same_bits(p[3 * i + 1], 1.0 / 3.0 + i), "y of vertex %d = %a", i, p[3 * i + 1]);
-        TEST_CHECK(p[3 * i + 2] == -1.5 * i, "z of vertex %d = %a", i, p[3 * i + 2]);
+    for (int big = 0; big <= 1; big++) {
+        unsigned char buf[2048];
+        size_t len = binary_ply_order(buf, 3, -1, big);
+        double *p;
+        size_t n;
+        io_error e;
+        TEST_REQUIRE(parse(IO_FMT_PLY, "b.ply", buf, len, &p, &n, &e) == IO_OK, "big %d: %s",
+                     big, e.message);
+        TEST_REQUIRE(n == 3, "n = %zu", n);
+        for (int i = 0; i < 3; i++) {
+            TEST_CHECK(same_bits(p[3 * i], (double)((float)i + 0.1f)), "x of vertex %d = %a", i,
+                       p[3 * i]);
+            TEST_CHECK(same_bits(p[3 * i + 1], 1.0 / 3.0 + i), "y of vertex %d = %a", i,
+                       p[3 * i + 1]);
+            TEST_CHECK(p[3 * i + 2] == -1.5 * i, "z of vertex %d = %a", i, p[3 * i + 2]);
+        }
+        free(p);
+        len = binary_ply_order(buf, 3, 1, big);
+        expect_error(IO_FMT_PLY, buf, len, "vertex 1", "NaN", __LINE__);
+        len = binary_ply_order(buf, 3, -1, big);
+        expect_error(IO_FMT_PLY, buf, len - 20, "ends inside vertex 2", NULL, __LINE__);
     }
-    free(p);
 }
 
 static void test_ply_rejects_bad_headers_counts_and_values(void)
@@ -215,7 +253,7 @@ static void test_ply_rejects_bad_headers_counts_and_values(void)
     expect_error(IO_FMT_PLY, buf, len, "claims 1152921504606846976 vertices", NULL, __LINE__);
     REJECT(IO_FMT_PLY, "", "in.dat", "end_header");
     REJECT(IO_FMT_PLY, "plx\nformat ascii 1.0\nend_header\n", "in.dat:1:", "not a PLY");
-    REJECT(IO_FMT_PLY, "ply\nformat binary_big_endian 1.0\nend_header\n", "in.dat:2:", "unsupported");
+    REJECT(IO_FMT_PLY, "ply\nformat binary_middle_endian 1.0\nend_header\n", "in.dat:2:", "unsupported");
     REJECT(IO_FMT_PLY, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
            "end_header\n0 0\n", "in.dat", "lacks property z");
     REJECT(IO_FMT_PLY, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
@@ -365,6 +403,37 @@ static void test_text_formats_skip_a_utf8_byte_order_mark(void)
            NULL);
 }
 
+/* UTF-16 and UTF-32 text (Windows PowerShell's `>` writes UTF-16LE with its byte order mark)
+ * is refused naming the encoding; before, the first token was quoted as '??0?'. */
+static void test_text_formats_name_a_utf16_or_utf32_file(void)
+{
+    REJECT(IO_FMT_XYZ, "\xFF\xFE" "0\0 \0" "0\0 \0" "0\0\n\0", "in.dat: the file is UTF-16LE text",
+           "iconv -f UTF-16 -t UTF-8");
+    REJECT(IO_FMT_NODE, "\xFE\xFF" "\0" "4", "in.dat: the file is UTF-16BE text", NULL);
+    REJECT(IO_FMT_OFF, "\xFF\xFE\0\0" "O\0\0\0", "in.dat: the file is UTF-32LE text",
+           "iconv -f UTF-32 -t UTF-8");
+    REJECT(IO_FMT_PLY, "\0\0\xFE\xFF" "\0\0\0p", "in.dat: the file is UTF-32BE text", NULL);
+    /* the mesh readers too (.ele and its .node, .msh, .vtu) */
+    static const char node[] = "4 3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
+    static const char u16[] = "\xFF\xFE" "1\0 \0" "4\0";
+    static const struct { io_format f; const char *name, *d, *n; size_t dl, nl; } m[] = {
+        {IO_FMT_ELE, "u.ele", u16, node, sizeof u16 - 1, sizeof node - 1},
+        {IO_FMT_ELE, "u.ele", "1 4\n1 1 2 3 4\n", u16, 14, sizeof u16 - 1},
+        {IO_FMT_MSH, "u.msh", u16, NULL, sizeof u16 - 1, 0},
+        {IO_FMT_VTU, "u.vtu", u16, NULL, sizeof u16 - 1, 0},
+    };
+    for (size_t k = 0; k < sizeof m / sizeof m[0]; k++) {
+        io_mesh mesh;
+        io_error e;
+        io_status s = io_parse_mesh(m[k].f, m[k].name, m[k].d, m[k].dl, m[k].n, m[k].nl, &mesh,
+                                    &e);
+        TEST_CHECK(s == IO_ERR_INPUT && strstr(e.message, "the file is UTF-16LE text") &&
+                   strstr(e.message, k == 1 ? "u.node" : m[k].name), "case %zu: status %d, '%s'",
+                   k, s, e.message);
+        io_mesh_free(&mesh);
+    }
+}
+
 /* NOTES.md E153: a PLY element without properties (legal; its items have no bytes, and in
  * ascii no values) before the vertex element: binary skipped it item by item (2^64 items: a
  * loop only the optimiser removed), ascii took vertex lines for its items. */
@@ -406,12 +475,14 @@ int main(void)
     TU_RUN(test_node_reads_zero_and_one_based_with_attributes_and_markers);
     TU_RUN(test_node_rejects_bad_headers_ids_and_counts);
     TU_RUN(test_ply_ascii_with_other_properties_and_faces);
+    TU_RUN(test_ply_ascii_smallest_data_without_final_newline);
     TU_RUN(test_ply_binary_little_endian_reads_float_and_double_among_lists);
     TU_RUN(test_ply_rejects_bad_headers_counts_and_values);
     TU_RUN(test_bin_round_trips_and_rejects_bad_sizes_and_values);
     TU_RUN(test_bin_file_reader_checks_the_size_before_allocating);
     TU_RUN(test_read_points_rejects_missing_file_directory_and_unknown_extension);
     TU_RUN(test_text_formats_skip_a_utf8_byte_order_mark);
+    TU_RUN(test_text_formats_name_a_utf16_or_utf32_file);
     TU_RUN(test_ply_elements_without_properties);
     return tu_finish();
 }

@@ -125,6 +125,25 @@ static void test_ply_faces_ascii_and_binary(void)
     bin[k - 4] = 9; /* the last index: 9 of 3 vertices */
     TEST_CHECK(io_parse_surface(IO_FMT_PLY, "b", bin, k, &s, &e) == IO_ERR_INPUT &&
                    strstr(e.message, "vertex index 9 out of range"), "%s", e.message);
+    /* the same file binary_big_endian: every scalar's bytes reversed */
+    const char *bhdr = "ply\nformat binary_big_endian    1.0\nelement vertex 3\nproperty float x\n"
+                       "property float y\nproperty float z\nelement face 1\n"
+                       "property list ushort uint vertex_index\nend_header\n";
+    TEST_REQUIRE(strlen(bhdr) == strlen(hdr), "header lengths");
+    bin[k - 4] = 0;
+    memcpy(bin, bhdr, strlen(bhdr));
+    size_t at = strlen(hdr);
+    static const int sizes[13] = {4, 4, 4, 4, 4, 4, 4, 4, 4, 2, 4, 4, 4};
+    for (int i = 0; i < 13; at += (size_t)sizes[i++])
+        for (int b = 0; b < sizes[i] / 2; b++) {
+            unsigned char t = bin[at + (size_t)b];
+            bin[at + (size_t)b] = bin[at + (size_t)sizes[i] - 1 - (size_t)b];
+            bin[at + (size_t)sizes[i] - 1 - (size_t)b] = t;
+        }
+    TEST_REQUIRE(io_parse_surface(IO_FMT_PLY, "b", bin, k, &s, &e) == IO_OK, "%s", e.message);
+    TEST_CHECK(s.nt == 1 && s.tris[0] == 2 && s.tris[2] == 0 && s.vertices[3] == 2.0,
+               "big-endian");
+    io_surface_free(&s);
 }
 
 static void test_bad_ply_surfaces_fail_with_a_message(void)

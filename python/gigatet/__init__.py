@@ -44,6 +44,16 @@ _CHECK_DELAUNAY = _gigatet.CHECK_DELAUNAY
 def _as_points(points, what="points"):
     """Any real array of shape (..., 3) -> C-contiguous float64 (a copy only if needed)."""
     a = np.asarray(points)
+    if a.dtype.kind == "O" and a.size:
+        # numbers numpy holds as objects (ints past 2**64, Fractions, Decimals, a pandas
+        # frame's mixed columns): converted as scipy converts them; text, complex and None
+        # are no real numbers (numpy would parse the text and take None for a NaN)
+        if any(x is None or isinstance(x, (str, bytes, complex)) for x in a.flat):
+            raise TypeError("%s must be real numbers, not text, complex or None" % what)
+        try:
+            a = a.astype(np.float64)
+        except (TypeError, ValueError) as e:
+            raise TypeError("%s must be real numbers: %s" % (what, e)) from None
     if a.dtype.kind not in "fiub":
         raise TypeError("%s must be real numbers, not %s" % (what, a.dtype))
     if a.ndim < 1 or a.shape[-1] != 3:
@@ -125,6 +135,10 @@ class Delaunay:
         threads = operator.index(threads)
         if threads < 0:
             raise ValueError("threads must be >= 0 (0: all cores)")
+        # the kernel uses at most 255 (gigatet.h), so any larger count means 255; passed on
+        # as it was, 2**31 and more raised "OverflowError: signed integer is greater than
+        # maximum", which names no argument
+        threads = min(threads, 255)
         if memory_limit is None:
             limit = 0
         elif isinstance(memory_limit, str) and memory_limit == "off":
@@ -133,6 +147,9 @@ class Delaunay:
             limit = operator.index(memory_limit)
             if limit <= 0:
                 raise ValueError("memory_limit must be None, 'off' or a number of bytes > 0")
+            # more bytes than an address space holds limit nothing ("off"); the C side takes
+            # a Py_ssize_t, which 2**63 and more overflowed with a message naming no argument
+            limit = min(limit, (1 << 62))
         self._adopt(_gigatet.triangulate(pts, threads, bool(check), limit))
         # the kernel starts only the threads the system lets it (ulimit -u, pids.max) and
         # OpenMP gives (NOTES.md E183, E184): libgomp would end the interpreter otherwise;

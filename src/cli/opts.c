@@ -4,6 +4,8 @@
  * alias) is that option; a value option takes the next argument whatever it looks like, and
  * a long name (starting "--") also takes "--name=value".  Any other argument that starts with
  * '-' and is longer than "-" is an unknown option; the rest are the positionals, in order.
+ * "--" ends the options: every argument after it is a positional (a file named "-p.xyz"), as
+ * POSIX utilities and getopt take it.
  * The first problem met, left to right, is the one reported (exit CLI_USAGE); a repeated
  * option keeps its last value.
  */
@@ -76,15 +78,20 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, unsigne
 {
     int npos = 0, rc;
     const char **first = NULL;
+    int opts_end = 0;   /* after "--" */
     if (given) *given = 0;
     for (int i = 0; i < argc; i++) {
-        const char *a = argv[i], *val;
-        const cli_opt *o = match(cmd->opts, a, &val);
+        const char *a = argv[i], *val = NULL;
+        if (!opts_end && !strcmp(a, "--")) {
+            opts_end = 1;
+            continue;
+        }
+        const cli_opt *o = opts_end ? NULL : match(cmd->opts, a, &val);
         if (o) {
             if (o->kind != CLI_OPT_FLAG && !val && i + 1 < argc) val = argv[++i];
             if ((rc = store(o, a, val, args)) != CLI_OK) return rc;
             if (given) *given |= o->mark;
-        } else if (a[0] == '-' && a[1] != '\0') {
+        } else if (!opts_end && a[0] == '-' && a[1] != '\0') {
             return cli_usage("%s: unknown option '%s'", cmd->name, a);
         } else if (cmd->pos[npos].name) {
             const char **slot = (const char **)(void *)((char *)args + cmd->pos[npos++].off);

@@ -8,9 +8,9 @@
  *   .xyz   text, "x y z" per line; '#' starts a comment; blank lines are ignored.
  *   .node  TetGen: header "n [dim [attrs [markers]]]" (dim must be 3), then
  *          "id x y z [attrs...] [marker]"; ids consecutive from 0 or from 1; '#' comments.
- *   .ply   "ascii 1.0" or "binary_little_endian 1.0"; a "vertex" element with scalar
- *          properties x, y, z among any others (lists included); other elements may come
- *          before or after it; faces are ignored.
+ *   .ply   "ascii 1.0", "binary_little_endian 1.0" or "binary_big_endian 1.0"; a "vertex"
+ *          element with scalar properties x, y, z among any others (lists included); other
+ *          elements may come before or after it; faces are ignored.
  *   .bin   little-endian uint64 count, then count*3 little-endian doubles, nothing after.
  * Numbers are parsed with strtod in the "C" locale (correctly rounded; hex floats accepted).
  * Every malformed input is rejected with a message naming the file and the line (text) or
@@ -18,7 +18,8 @@
  * trailing garbage, a wrong number of columns, NaN or Inf (also decimal overflow), an empty
  * file, a header claiming more points than the file holds (checked against the file size
  * before anything is allocated, so a header claiming 2^60 points allocates nothing), extra
- * data after the declared points, a missing file, a directory, an unknown extension.
+ * data after the declared points, a missing file, a directory, an unknown extension, text in
+ * UTF-16 or UTF-32 (named from its byte order mark; a UTF-8 one is skipped).
  *
  * Writers are atomic: the data goes to a temporary file created next to the destination
  * (O_EXCL, so the umask applies as for any new file) and is renamed over it only after
@@ -36,7 +37,8 @@
  *   .ele   TetGen, with the .node beside it: 0- or 1-based (the .node's first id decides,
  *          as after TetGen's -z), attribute and boundary-marker columns in the .node and
  *          region-attribute columns in the .ele read and dropped, 4 or 10 nodes per tet (the
- *          first 4, the corners, are kept).
+ *          first 4, the corners, are kept; the trailing run of .node entries that are only
+ *          mid-edge nodes, where TetGen's -o2 puts them, is dropped, read_ele.c).
  *   .msh   Gmsh MSH 4.1 and 2.2 (2.0, 2.1 alike), ASCII or binary (little-endian; 4.1's
  *          size_t fields 4 or 8 bytes as its $MeshFormat says).  $MeshFormat, $Nodes and
  *          $Elements are read, $Entities and every other section skipped.  Node tags may be
@@ -48,10 +50,11 @@
  *          base64) or "appended" (<AppendedData encoding="raw" or "base64">), header_type
  *          UInt32 or UInt64, uncompressed or compressor="vtkZLibDataCompressor" (LZ4 and
  *          LZMA are refused by name), byte_order="LittleEndian" (BigEndian is refused).
- *          Points Float32 or Float64; connectivity and offsets any integer type (offsets as
- *          the NumberOfCells cell ends, or NumberOfCells+1 starts beginning with 0); types
- *          any integer type.  Attribute order inside a tag does not matter.  Cells other than
- *          VTK_TETRA (10) are skipped and counted; VTK_QUADRATIC_TETRA (24) is skipped too.
+ *          Points Float32, Float64 or any integer type (each within 2^53); connectivity and
+ *          offsets any integer type (offsets as the NumberOfCells cell ends, or
+ *          NumberOfCells+1 starts beginning with 0); types any integer type.  Attribute
+ *          order inside a tag does not matter.  Cells other than VTK_TETRA (10) are skipped
+ *          and counted; VTK_QUADRATIC_TETRA (24) is skipped too.
  *   What every reader returns: distinct vertex arrays as in the file (unused vertices are
  *   kept), tets as 4 vertex indices (range-checked, 0-based, in the file's orientation),
  *   and the count of skipped cells.  Every malformed file fails with IO_ERR_INPUT and a
@@ -188,7 +191,8 @@ void io_mesh_free(io_mesh *mesh);
  * destination. */
 io_status io_check_writable(const char *path, io_error *err);
 
-/* For .ele: the .node path written / read beside it (malloc'ed), else NULL. */
+/* For .ele: the .node path written / read beside it (malloc'ed), else NULL; .NODE beside an
+ * upper-case .ELE. */
 char *io_ele_node_path(const char *path);
 
 /* ---- surface meshes (triangles) ---------------------------------------------------------- */

@@ -46,7 +46,7 @@ const io_format_info io_formats[IO_FMT_COUNT] = {
     {IO_FMT_NODE, ".node", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
      "points: TetGen, 0- or 1-based (written 1-based)"},
     {IO_FMT_PLY, ".ply", IO_READ_POINTS | IO_WRITE_POINTS | IO_READ_SURFACE, NULL,
-     "points or surface: PLY ascii or binary_little_endian (written binary, double x y z)"},
+     "points or surface: PLY ascii or binary, either endian (written little-endian, double x y z)"},
     {IO_FMT_BIN, ".bin", IO_READ_POINTS | IO_WRITE_POINTS, NULL,
      "points: little-endian uint64 count, then count*3 little-endian doubles"},
     {IO_FMT_ELE, ".ele", IO_READ_MESH | IO_WRITE_MESH, ".node",
@@ -218,6 +218,20 @@ size_t io_bom_length(const char *buf, size_t len)
     return len >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
 }
 
+io_status io_text_encoding(const char *name, const char *buf, size_t len, io_error *err)
+{
+    const char *enc = NULL;
+    if (len >= 4 && memcmp(buf, "\xFF\xFE\0\0", 4) == 0) enc = "UTF-32LE";
+    else if (len >= 4 && memcmp(buf, "\0\0\xFE\xFF", 4) == 0) enc = "UTF-32BE";
+    else if (len >= 2 && memcmp(buf, "\xFF\xFE", 2) == 0) enc = "UTF-16LE";
+    else if (len >= 2 && memcmp(buf, "\xFE\xFF", 2) == 0) enc = "UTF-16BE";
+    if (!enc) return IO_OK;
+    /* iconv's "UTF-16" / "UTF-32" read the mark and drop it */
+    return io_fail(err, IO_ERR_INPUT, "%s: the file is %s text (it starts with a %s byte order "
+                   "mark); ASCII or UTF-8 is read: convert it, e.g. iconv -f %.6s -t UTF-8", name,
+                   enc, enc, enc);
+}
+
 void io_text_init(io_text *t, const char *name, const char *buf, size_t len)
 {
     t->name = name;
@@ -356,6 +370,8 @@ static io_status parse_nul(io_format fmt, const char *name, const char *buf, siz
                            double **xyz, size_t *n, io_error *err)
 {
     long first;
+    io_status es;
+    if (fmt != IO_FMT_BIN && (es = io_text_encoding(name, buf, len, err)) != IO_OK) return es;
     switch (fmt) {
     case IO_FMT_XYZ: return io_parse_xyz(name, buf, len, xyz, n, err);
     case IO_FMT_NODE: return io_parse_node(name, buf, len, xyz, n, &first, err);

@@ -36,6 +36,10 @@ void io_text_init(io_text *t, const char *name, const char *buf, size_t len);
 /* 3 when buf starts with a UTF-8 byte order mark (EF BB BF, which Windows editors write at the
  * start of a text file), else 0: the text readers start after it (NOTES.md E152). */
 size_t io_bom_length(const char *buf, size_t len);
+/* IO_OK, or IO_ERR_INPUT naming the encoding when buf starts with a UTF-16 or UTF-32 byte
+ * order mark (Windows PowerShell's `>` writes UTF-16): no reader takes such text, and the
+ * message says so rather than quoting its first token as '??0?'. */
+io_status io_text_encoding(const char *name, const char *buf, size_t len, io_error *err);
 /* Advance to the next line that has a token; 0 at the end of the data. */
 int io_text_next_line(io_text *t);
 /* Next token of the current line: 1 and [*ts, *te), or 0 at the end of the line. */

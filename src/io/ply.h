@@ -29,7 +29,7 @@ typedef struct ply_element {
 } ply_element;
 
 typedef struct ply_header {
-    int binary;
+    int binary;             /* 0 ascii, 1 binary_little_endian, 2 binary_big_endian */
     int nel, vertex;        /* element count, index of the vertex element */
     int face, face_prop;    /* the "face" element and its vertex_indices list, or -1 */
     size_t data;            /* offset of the first data byte */
@@ -43,9 +43,9 @@ int ply_type_size(int ty);
 /* Whether a PLY scalar type is a floating-point one (float, double). */
 int ply_type_float(int ty);
 
-/* Value of a little-endian binary scalar of type ty at p, as a double (exact for every type:
- * the integers have at most 32 bits, floats widen exactly). */
-double ply_le_value(int ty, const unsigned char *p);
+/* Value of a binary scalar of type ty at p, little-endian or (big != 0) big-endian, as a
+ * double (exact for every type: the integers have at most 32 bits, floats widen exactly). */
+double ply_bin_value(int ty, const unsigned char *p, int big);
 
 /* Parse the header at the start of buf[0, len) into *h: h->data is the offset of the first
  * data byte.  Fails with a message naming the file and line on anything it does not

@@ -1,7 +1,7 @@
 /* ply_header.c -- the PLY header parser (ply.h): line by line up to "end_header".
  *
- * Each line is split into at most six words.  "format" must name ascii or
- * binary_little_endian (1.0); "element" opens an element with its count; "property" adds a scalar
+ * Each line is split into at most six words.  "format" must name ascii, binary_little_endian
+ * or binary_big_endian (1.0); "element" opens an element with its count; "property" adds a scalar
  * of one of the PLY types, or a list with an integer count type, to the last element; x, y, z
  * of the element named "vertex" are marked as coordinates (scalars, each once) and the
  * vertex_indices (or vertex_index) list of the first "face" element is remembered for
@@ -31,9 +31,14 @@ int ply_type_size(int ty) { return ply_types[ty].size; }
 
 int ply_type_float(int ty) { return ply_types[ty].kind == 'f'; }
 
-double ply_le_value(int ty, const unsigned char *p)
+double ply_bin_value(int ty, const unsigned char *p, int big)
 {
     int size = ply_types[ty].size;
+    unsigned char r[8];
+    if (big) {   /* the bytes reversed: the same value little-endian */
+        for (int i = 0; i < size; i++) r[i] = p[size - 1 - i];
+        p = r;
+    }
     uint64_t u = io_load_le(p, (size_t)size);
     switch (ply_types[ty].kind) {
     case 'u': return (double)u;
@@ -94,9 +99,11 @@ static io_status ply_format_line(const ply_line *l, ply_header *h, io_error *err
         return io_fail(err, IO_ERR_INPUT, "%s:%zu: malformed format line", l->name, l->line);
     if (word_is(l->w[1], l->wl[1], "ascii")) h->binary = 0;
     else if (word_is(l->w[1], l->wl[1], "binary_little_endian")) h->binary = 1;
+    else if (word_is(l->w[1], l->wl[1], "binary_big_endian")) h->binary = 2;
     else
-        return io_fail(err, IO_ERR_INPUT, "%s:%zu: unsupported PLY format '%.*s' (ascii and "
-                       "binary_little_endian are read)", l->name, l->line, PLY_WORD(l, 1));
+        return io_fail(err, IO_ERR_INPUT, "%s:%zu: unsupported PLY format '%.*s' (ascii, "
+                       "binary_little_endian and binary_big_endian are read)", l->name, l->line,
+                       PLY_WORD(l, 1));
     return IO_OK;
 }
 

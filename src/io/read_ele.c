@@ -7,6 +7,13 @@
  * 0 or 1 and node ids in the .node file's numbering (its first id says 0- or 1-based, as
  * TetGen's -z does).  Region attributes are not read.  The tet count is checked against the
  * file size before the array is allocated.
+ *
+ * TetGen's -o2 appends the mid-edge nodes of its 10-node tets after every corner vertex in
+ * the .node; kept, they would be vertices in no tet, and `check` would fail a Delaunay mesh
+ * for them ("vertex 792 ... is in no tet").  So the trailing run of nodes that no tet names as
+ * a corner and some tet names as a mid-edge node is dropped: the vertices left keep their
+ * positions in the file, which is what check's messages number.  Any node before that run
+ * (a duplicate input point TetGen kept, in no tet) is kept, as in a 4-node file.
  */
 #include "io_internal.h"
 
@@ -39,9 +46,11 @@ static io_status ele_header(io_text *t, size_t len, uint64_t h[3], io_error *err
     return IO_OK;
 }
 
-/* Tet line i: its id in sequence, then its node ids (0-based into m->tets). */
+/* Tet line i: its id in sequence, then its node ids (0-based into m->tets; mid-edge nodes,
+ * the 5th to 10th, marked in mid[] when it is not NULL). */
 static io_status ele_line(io_text *t, size_t i, const uint64_t h[3], uint64_t *tbase,
-                          const char *node_name, long base, io_mesh *m, io_error *err)
+                          const char *node_name, long base, io_mesh *m, unsigned char *mid,
+                          io_error *err)
 {
     const char *ts, *te;
     io_status s;
@@ -66,8 +75,20 @@ static io_status ele_line(io_text *t, size_t i, const uint64_t h[3], uint64_t *t
                            "%ld..%zu)", t->name, t->line, (unsigned long long)v, node_name,
                            base, m->nv - 1 + (size_t)base);
         if (c < 4) m->tets[4 * i + c] = (uint32_t)(v - (uint64_t)base);
+        else if (mid) mid[v - (uint64_t)base] = 1;
     }
     return IO_OK;
+}
+
+/* Drop the trailing nodes that are only mid-edge nodes of 10-node tets (the comment above). */
+static void drop_mid_nodes(io_mesh *m, const unsigned char *mid)
+{
+    size_t last = 0;   /* 1 + the largest corner id */
+    for (size_t k = 0; k < 4 * m->nt; k++)
+        if (m->tets[k] + (size_t)1 > last) last = m->tets[k] + (size_t)1;
+    size_t nv = m->nv;
+    while (nv > last && mid[nv - 1]) nv--;
+    if (nv > 0) m->nv = nv;
 }
 
 io_status io_parse_ele(const char *name, const char *buf, size_t len, const char *node_name,
@@ -86,12 +107,22 @@ io_status io_parse_ele(const char *name, const char *buf, size_t len, const char
     m->nt = (size_t)h[0];
     m->tets = malloc((m->nt ? m->nt : 1) * 4 * sizeof(uint32_t));
     if (!m->tets) return io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %zu tets", name, m->nt);
+    unsigned char *mid = NULL;
+    if (h[1] == 10 && !(mid = calloc(m->nv ? m->nv : 1, 1)))
+        return io_fail(err, IO_ERR_NOMEM, "%s: out of memory for %zu nodes", name, m->nv);
     for (size_t i = 0; i < m->nt; i++) {
-        if (!io_text_next_line(&t))
+        if (!io_text_next_line(&t)) {
+            free(mid);
             return io_fail(err, IO_ERR_INPUT, "%s:%zu: the file ends after %zu of the %zu tets "
                            "its header declares", name, t.line, i, m->nt);
-        if ((s = ele_line(&t, i, h, &tbase, node_name, base, m, err)) != IO_OK) return s;
+        }
+        if ((s = ele_line(&t, i, h, &tbase, node_name, base, m, mid, err)) != IO_OK) {
+            free(mid);
+            return s;
+        }
     }
+    if (mid) drop_mid_nodes(m, mid);
+    free(mid);
     if (io_text_next_line(&t))
         return io_fail(err, IO_ERR_INPUT, "%s:%zu: data after the %zu tets the header declares",
                        name, t.line, m->nt);

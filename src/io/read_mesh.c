@@ -41,6 +41,10 @@ static io_status parse_nul(io_format fmt, const char *name, const char *buf, siz
                            const char *node_name, const char *nbuf, size_t nlen, io_mesh *m,
                            io_error *err)
 {
+    io_status s;
+    if ((s = io_text_encoding(name, buf, len, err)) != IO_OK) return s;
+    if (fmt == IO_FMT_ELE && (s = io_text_encoding(node_name, nbuf, nlen, err)) != IO_OK)
+        return s;
     switch (fmt) {
     case IO_FMT_ELE: return io_parse_ele(name, buf, len, node_name, nbuf, nlen, m, err);
     case IO_FMT_MSH: return io_parse_msh(name, buf, len, m, err);

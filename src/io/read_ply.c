@@ -1,4 +1,4 @@
-/* read_ply.c -- the .ply point reader (ascii and binary_little_endian) and the PLY surface
+/* read_ply.c -- the .ply point reader (ascii, binary little- and big-endian) and the PLY surface
  * reader (faces, for sampling; io_parse_ply_surface), after ply_header.c has parsed the header.
  *
  * Only the element named "vertex" is read for points; its properties x, y, z (any scalar
@@ -18,7 +18,8 @@
 #include <string.h>
 
 /* Skip one binary property value (a scalar or a whole list) at *pos; 0 when it runs past len. */
-static int bin_skip_prop(const ply_prop *pr, const unsigned char *b, size_t len, size_t *pos)
+static int bin_skip_prop(const ply_prop *pr, const unsigned char *b, size_t len, size_t *pos,
+                         int big)
 {
     size_t is = (size_t)ply_type_size(pr->type);
     if (pr->count_type < 0) {
@@ -28,17 +29,18 @@ static int bin_skip_prop(const ply_prop *pr, const unsigned char *b, size_t len,
     }
     size_t cs = (size_t)ply_type_size(pr->count_type);
     if (len - *pos < cs) return 0;
-    double c = ply_le_value(pr->count_type, b + *pos);
+    double c = ply_bin_value(pr->count_type, b + *pos, big);
     *pos += cs;
     if (c < 0 || c > (double)((len - *pos) / is)) return 0;
     *pos += (size_t)c * is;
     return 1;
 }
 
-static int bin_skip_item(const ply_element *e, const unsigned char *b, size_t len, size_t *pos)
+static int bin_skip_item(const ply_element *e, const unsigned char *b, size_t len, size_t *pos,
+                         int big)
 {
     for (int j = 0; j < e->nprops; j++)
-        if (!bin_skip_prop(&e->props[j], b, len, pos)) return 0;
+        if (!bin_skip_prop(&e->props[j], b, len, pos, big)) return 0;
     return 1;
 }
 
@@ -49,7 +51,7 @@ static io_status ply_binary(const char *name, const unsigned char *b, size_t len
     size_t pos = *at;
     for (int i = 0; i < h->vertex; i++)
         for (uint64_t k = 0; k < h->el[i].count && h->el[i].nprops; k++)
-            if (!bin_skip_item(&h->el[i], b, len, &pos))
+            if (!bin_skip_item(&h->el[i], b, len, &pos, h->binary == 2))
                 return io_fail(err, IO_ERR_INPUT, "%s: the file ends inside element '%s' item %llu",
                                name, h->el[i].name, (unsigned long long)k);
     const ply_element *e = &h->el[h->vertex];
@@ -59,14 +61,14 @@ static io_status ply_binary(const char *name, const unsigned char *b, size_t len
             if (pr->coord >= 0) {
                 size_t sz = (size_t)ply_type_size(pr->type);
                 if (len - pos < sz) goto short_file;
-                double v = ply_le_value(pr->type, b + pos);
+                double v = ply_bin_value(pr->type, b + pos, h->binary == 2);
                 if (!isfinite(v))
                     return io_fail(err, IO_ERR_INPUT, "%s: vertex %llu (byte offset %zu): %c is %s",
                                    name, (unsigned long long)i, pos, 'x' + pr->coord,
                                    isnan(v) ? "NaN" : "infinite");
                 a[3 * i + (size_t)pr->coord] = v;
                 pos += sz;
-            } else if (!bin_skip_prop(pr, b, len, &pos)) {
+            } else if (!bin_skip_prop(pr, b, len, &pos, h->binary == 2)) {
                 goto short_file;
             }
         }
@@ -147,7 +149,9 @@ static io_status ply_vertices(const char *name, const char *buf, size_t len, con
         const ply_prop *pr = &e->props[j];
         min += h->binary ? (size_t)ply_type_size(pr->count_type >= 0 ? pr->count_type : pr->type) : 2;
     }
-    if (e->count > (len - h->data) / min)
+    /* an ascii value takes 2 bytes with its separator, and the file's last value none: 4
+     * vertices "0 0 0\n...0 0 1" without a final newline are 23 bytes, not 24 */
+    if (e->count > (len - h->data + !h->binary) / min)
         return io_fail(err, IO_ERR_INPUT, "%s: the header claims %llu vertices, more than the %zu "
                        "bytes after it can hold", name, (unsigned long long)e->count, len - h->data);
     double *a = malloc((size_t)e->count * 3 * sizeof(double));
@@ -222,7 +226,7 @@ static io_status faces_binary(const unsigned char *b, size_t len, const ply_head
 {
     for (int i = h->vertex + 1; i < h->face; i++)
         for (uint64_t k = 0; k < h->el[i].count && h->el[i].nprops; k++)
-            if (!bin_skip_item(&h->el[i], b, len, &pos))
+            if (!bin_skip_item(&h->el[i], b, len, &pos, h->binary == 2))
                 return io_fail(err, IO_ERR_INPUT, "%s: the file ends inside element '%s' item %llu",
                                f->name, h->el[i].name, (unsigned long long)k);
     const ply_element *e = &h->el[h->face];
@@ -232,17 +236,19 @@ static io_status faces_binary(const unsigned char *b, size_t len, const ply_head
     for (uint64_t i = 0; i < e->count; i++)
         for (int j = 0; j < e->nprops; j++) {
             if (j != h->face_prop) {
-                if (!bin_skip_prop(&e->props[j], b, len, &pos)) goto short_file;
+                if (!bin_skip_prop(&e->props[j], b, len, &pos, h->binary == 2)) goto short_file;
                 continue;
             }
             if (len - pos < cs) goto short_file;
             snprintf(f->where, sizeof f->where, " (byte offset %zu)", pos);
-            double k = ply_le_value(fp->count_type, b + pos);
+            double k = ply_bin_value(fp->count_type, b + pos, h->binary == 2);
             pos += cs;
             if ((s = fan_start(f, i, k, err)) != IO_OK) return s;
             if (k > (double)((len - pos) / is)) goto short_file;
             for (uint64_t q = 0; q < (uint64_t)k; q++, pos += is)
-                if ((s = fan_add(f, ply_le_value(fp->type, b + pos), tv, err)) != IO_OK) return s;
+                if ((s = fan_add(f, ply_bin_value(fp->type, b + pos, h->binary == 2), tv, err)) !=
+                    IO_OK)
+                    return s;
             continue;
         short_file:
             return io_fail(err, IO_ERR_INPUT, "%s: the file ends inside face %llu of %llu",

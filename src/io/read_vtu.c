@@ -282,7 +282,9 @@ static int value_type(const char *b, const char *e, char *kind, size_t *size)
     return 0;
 }
 
-/* Convert n binary values of (kind, size) into a. */
+/* Convert n binary values of (kind, size) into a: into a->d when it is allocated (Points),
+ * integers too (meshio writes integer coordinates as Int64, and VTK reads them; each must be
+ * a double exactly, |x| <= 2^53), else into a->u. */
 static io_status convert(const vtu *v, const char *t, const char *what, const unsigned char *b,
                          char kind, size_t size, varr *a)
 {
@@ -301,6 +303,13 @@ static io_status convert(const vtu *v, const char *t, const char *what, const un
             if (!isfinite(d))
                 return fail_at(v, t, "DataArray %s: value %zu is not finite", what, i);
             a->d[i] = d;
+        } else if (a->d) {
+            int neg = kind == 'i' && (x >> (8 * size - 1)) & 1;
+            uint64_t mag = !neg ? x : size == 8 ? ~x + 1 : ((uint64_t)1 << (8 * size)) - x;
+            if (mag > (uint64_t)1 << 53)
+                return fail_at(v, t, "DataArray %s: value %zu (%s%llu) is not a double exactly",
+                               what, i, neg ? "-" : "", (unsigned long long)mag);
+            a->d[i] = neg ? -(double)mag : (double)mag;
         } else {
             if (kind == 'i' && (x >> (8 * size - 1)) & 1)
                 return fail_at(v, t, "DataArray %s: value %zu is negative", what, i);
@@ -361,10 +370,10 @@ static io_status read_array(const vtu *v, const char *t, const char *te, const c
     size_t size;
     io_status s;
     if (!attr(t, te, "type", &b, &e) || !value_type(b, e, &kind, &size) ||
-        (kind == 'f') != want_float)
+        (kind == 'f' && !want_float))
         return fail_at(v, t, "DataArray %s: type \"%s\" is not read here (%s)", what,
                        attr(t, te, "type", &b, &e) ? excerpt(b, e, ex) : "",
-                       want_float ? "Float32 or Float64" : "an integer type");
+                       want_float ? "Float32, Float64 or an integer type" : "an integer type");
     if (!attr(t, te, "format", &b, &e))
         return fail_at(v, t, "DataArray %s has no format attribute", what);
     vsrc src;
@@ -373,7 +382,8 @@ static io_status read_array(const vtu *v, const char *t, const char *te, const c
         if (te[-1] == '/') return fail_at(v, t, "DataArray %s is empty", what);
         const char *db = te + 1, *de = memchr(db, '<', (size_t)(v->xml_end - db));
         if (!de) return fail_at(v, t, "DataArray %s is not closed", what);
-        if (span_is(b, e, "ascii")) return ascii_values(v, what, db, de, kind, a);
+        if (span_is(b, e, "ascii"))
+            return ascii_values(v, what, db, de, want_float ? 'f' : kind, a);
         src.b64 = 1;
         io_b64_init(&src.s, db, de);
     } else if (span_is(b, e, "appended")) {
@@ -402,8 +412,8 @@ static io_status read_array(const vtu *v, const char *t, const char *te, const c
             s = fail_at(v, t, "DataArray %s: %zu bytes are not a whole number of %zu-byte "
                         "values", what, nbytes, size);
         a->n = nbytes / size;
-        if (s == IO_OK && kind == 'f') a->d = malloc((a->n ? a->n : 1) * sizeof *a->d);
-        if (s == IO_OK && kind != 'f') a->u = malloc((a->n ? a->n : 1) * sizeof *a->u);
+        if (s == IO_OK && want_float) a->d = malloc((a->n ? a->n : 1) * sizeof *a->d);
+        if (s == IO_OK && !want_float) a->u = malloc((a->n ? a->n : 1) * sizeof *a->u);
         if (s == IO_OK && !a->d && !a->u)
             s = io_fail(v->err, IO_ERR_NOMEM, "%s: out of memory", v->name);
         if (s == IO_OK) s = convert(v, t, what, bytes, kind, size, a);

@@ -40,6 +40,7 @@ static io_status parse_nul(io_format fmt, const char *name, const char *buf, siz
                            io_surface *s, io_error *err)
 {
     io_status st;
+    if ((st = io_text_encoding(name, buf, len, err)) != IO_OK) return st;
     switch (fmt) {
     case IO_FMT_OFF: st = io_parse_off(name, buf, len, s, err); break;
     case IO_FMT_PLY: st = io_parse_ply_surface(name, buf, len, s, err); break;

@@ -145,6 +145,12 @@ char *io_ele_node_path(const char *path)
     if (!p) return NULL;
     memcpy(p, path, l - le);
     memcpy(p + l - le, f->companion, lc + 1);
+    /* MESH.ELE's companion is MESH.NODE (tools on case-insensitive file systems write both
+     * in capitals; on Linux MESH.node is another name, which failed with "cannot open") */
+    int upper = 1;
+    for (size_t i = l - le + 1; i < l; i++) upper &= path[i] >= 'A' && path[i] <= 'Z';
+    for (size_t i = l - le + 1; upper && i < l - le + lc; i++)
+        p[i] = (char)(p[i] - 'a' + 'A');
     return p;
 }
 

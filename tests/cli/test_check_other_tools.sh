@@ -9,6 +9,8 @@
 #     On the grid scipy writes flat tets: every mode fails them.
 #   A 2-3 flip of a Delaunay mesh: fails both modes; diff names the side that is not Delaunay.
 #   --json reports parse and carry the mode, the counts and the first violation.
+#   TetGen -o2 (10-node tets, mid-edge nodes after the corners in its .node): the corners'
+#     mesh passes, the mid-edge nodes are not taken for vertices in no tet.
 # Skips (77, loudly) only when tetgen or Debian's python3 with numpy + scipy is really missing.
 . "$(dirname "$0")/common.sh"
 command -v tetgen >/dev/null 2>&1 || skip_loudly "tetgen is not installed (apt-get install tetgen)"
@@ -67,6 +69,14 @@ tetgen -Q dup.node >/dev/null 2>&1 || fail "tetgen failed on dup.node"
 expect 0 "" -- "$G" check dup.1.ele --points dup.node
 has "$T/out" "duplicates=3"
 "$G" triangulate dup.node -o gdup.ele -q
+expect 0 "" -- "$G" diff gdup.ele dup.1.ele --points dup.node
+
+# ---- TetGen -o2: 10-node tets, their mid-edge nodes appended to the .node ------------------
+# The corners are the Delaunay mesh; the mid-edge nodes are no input points and in no linear tet.
+tetgen -Qo2 dup.node >/dev/null 2>&1 || fail "tetgen -o2 failed on dup.node"
+head -1 dup.1.ele | grep -q "^ *[0-9]* *10 " && pass "tetgen -o2 wrote 10-node tets" || fail "tetgen -o2 wrote $(head -1 dup.1.ele)"
+expect 0 "" -- "$G" check dup.1.ele --points dup.node
+has "$T/out" "duplicates=3"
 expect 0 "" -- "$G" diff gdup.ele dup.1.ele --points dup.node
 
 # ---- scipy (Qhull): unoriented, renumbered ------------------------------------------------

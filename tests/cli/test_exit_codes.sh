@@ -22,6 +22,11 @@ expect 1 "unknown command" -- "$G" frobnicate
 expect 1 "unknown option" -- "$G" triangulate ok.xyz --bogus
 expect 1 "no input" -- "$G" triangulate
 expect 1 "more than one input" -- "$G" triangulate ok.xyz ok.xyz
+# "--" ends the options (POSIX): a file whose name starts with '-'
+cp ok.xyz ./-dash.xyz
+expect 0 "" -- "$G" triangulate -q -- -dash.xyz
+expect 1 "unknown option '-dash.xyz'" -- "$G" triangulate -dash.xyz
+expect 1 "more than one input" -- "$G" triangulate ok.xyz -- -q
 for t in -1 abc 1.5 "" 99999999999999999999 1025 2147483648 " 4" 0x4; do
     expect 1 "thread count" -- "$G" triangulate ok.xyz -t "$t"
 done
@@ -82,6 +87,9 @@ printf '0 0 0\n1 0 0 7\n' > cols4.xyz
 expect 2 "cols4.xyz:2: expected 3 numbers (x y z), found 4" -- "$G" triangulate cols4.xyz
 printf '# c\n0 0 0\n1 0 0\n0 1 0\n0 0 1x\n' > junk.xyz
 expect 2 "junk.xyz:5: z coordinate is not a number" -- "$G" triangulate junk.xyz
+# Windows PowerShell's `>` writes UTF-16LE with a byte order mark: named, not quoted as '??0?'
+printf '\377\376' > u16.xyz && printf '0 0 0\n1 0 0\n0 1 0\n0 0 1\n' | sed 's/./&\x0/g; s/$/\x0/' >> u16.xyz
+expect 2 "u16.xyz: the file is UTF-16LE text" -- "$G" triangulate u16.xyz
 printf '0 0 0\n1 0 0\n0 nan 0\n0 0 1\n' > nan.xyz
 expect 2 "nan.xyz:3: y coordinate is not finite" -- "$G" triangulate nan.xyz
 printf '0 0 0\n1 0 0\n0 1 0\n0 0 -inf\n' > inf.xyz
@@ -106,8 +114,13 @@ printf '4 2 0 0\n1 0 0\n2 1 0\n3 0 1\n4 1 1\n' > dim2.node
 expect 2 "dim2.node:1: the dimension is 2" -- "$G" triangulate dim2.node
 printf '5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n' > fewer.node
 expect 2 "fewer.node:5: the file ends after 4 of the 5 points" -- "$G" triangulate fewer.node
-printf 'ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nend_header\n' > big_endian.ply
-expect 2 "big_endian.ply:2: unsupported PLY format" -- "$G" triangulate big_endian.ply
+# binary_big_endian is read (float 1.0 is 3f 80 00 00): the tet of the unit corners
+printf 'ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nend_header\n' > big_endian.ply
+printf '\0\0\0\0\0\0\0\0\0\0\0\0\077\200\0\0\0\0\0\0\0\0\0\0\0\0\0\0\077\200\0\0\0\0\0\0\0\0\0\0\0\0\0\0\077\200\0\0' >> big_endian.ply
+expect 0 "" -- "$G" triangulate big_endian.ply -o big_endian.ele
+grep -qx '4 0 0 1' big_endian.node && pass "big-endian z read" || fail "big_endian.node: $(cat big_endian.node)"
+printf 'ply\nformat binary_middle_endian 1.0\nelement vertex 4\nproperty float x\nend_header\n' > mid_endian.ply
+expect 2 "mid_endian.ply:2: unsupported PLY format" -- "$G" triangulate mid_endian.ply
 printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nend_header\n0 0\n' > noz.ply
 expect 2 "noz.ply: the vertex element lacks property z" -- "$G" triangulate noz.ply
 printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n' > noend.ply

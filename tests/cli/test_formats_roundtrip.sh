@@ -44,6 +44,12 @@ for f in xyz node ply bin; do
 done
 [ "$(wc -l < canon_xyz.ele)" -gt 300 ] || fail "suspiciously few tets: $(wc -l < canon_xyz.ele)"
 expect 0 "" -- "$G" check out_bin.ele
+# MESH.ELE goes with MESH.NODE (tools on case-insensitive file systems write capitals)
+expect 0 "" -- "$G" triangulate in.xyz -o UP.ELE -q
+[ -f UP.NODE ] && [ ! -e UP.node ] && pass "UP.ELE wrote UP.NODE" || fail "UP.ELE wrote: $(ls UP.*)"
+expect 0 "" -- "$G" check UP.ELE --points in.xyz
+cp out_xyz.node TG.NODE && cp out_xyz.ele TG.ELE
+expect 0 "" -- "$G" check TG.ELE --points in.xyz
 
 for f in ply node xyz; do
     expect 0 "" -- "$G" triangulate "hand.$f" -o "hand_$f.ele"

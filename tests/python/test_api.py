@@ -36,6 +36,18 @@ def test_any_float_dtype_and_layout():
         d.check()
     # a float64 C-contiguous input is used as is (no copy), as scipy does
     assert gigatet.Delaunay(p).points is p
+    # numbers held as objects (ints past 2**64, Fractions, Decimals): converted, as scipy
+    # does; before, "points must be real numbers, not object"
+    from decimal import Decimal
+    from fractions import Fraction
+    q = [[Fraction(1, 3), 0, 0], [0, Decimal("0.5"), 0], [0, 0, 2**70], [1, 1, 1], [0, 0, 0]]
+    d = gigatet.Delaunay(q)
+    assert np.array_equal(d.points, np.array([[1 / 3, 0, 0], [0, 0.5, 0], [0, 0, 2.0**70],
+                                              [1, 1, 1], [0, 0, 0]]))
+    assert np.array_equal(gigatet.Delaunay(p.astype(object)).simplices, ref.simplices)
+    for bad in ([[0, 0, "1"]] + q[1:], [[0, 0, None]] + q[1:], [[0, 0, 1j]] + q[1:]):
+        with pytest.raises(TypeError, match="real numbers"):
+            gigatet.Delaunay(np.array(bad, dtype=object))
 
 
 def test_bad_shapes_and_types():
@@ -53,6 +65,11 @@ def test_bad_shapes_and_types():
         gigatet.Delaunay(cube_points(10), threads=-1)
     with pytest.raises(TypeError):
         gigatet.Delaunay(cube_points(10), threads=1.5)
+    # counts past the kernel's 255 mean 255, however large (2**31 raised OverflowError)
+    ref = gigatet.Delaunay(cube_points(10), threads=1)
+    for many in (256, 2**31, 10**30):
+        d = gigatet.Delaunay(cube_points(10), threads=many)
+        assert d.nsimplex == ref.nsimplex
 
 
 def test_errors():
@@ -100,6 +117,7 @@ def test_memory_limit():
     n = gigatet.Delaunay(pts).nsimplex
     assert gigatet.Delaunay(pts, memory_limit="off").nsimplex == n
     assert gigatet.Delaunay(pts, memory_limit=1 << 34).nsimplex == n
+    assert gigatet.Delaunay(pts, memory_limit=10**30).nsimplex == n   # was OverflowError
     for bad in (0, -5, "on"):
         with pytest.raises((ValueError, TypeError)):
             gigatet.Delaunay(pts, memory_limit=bad)
