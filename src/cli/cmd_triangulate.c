@@ -1,12 +1,13 @@
 /* cmd_triangulate.c -- `gigatet triangulate INPUT [-o OUTPUT] [-t THREADS] [--check]
- * [--stats] [--degeneracies FILE.json [--degeneracies-limit N]] [--memory-limit SIZE] [-q]`.
+ * [--stats] [--degeneracies FILE.json [--degeneracies-limit N]] [--map FILE]
+ * [--memory-limit SIZE] [-q]`.
  *
  * Order of work, chosen so that a failure costs little and leaves nothing behind: parse and
  * validate every argument (usage errors before any file is touched), make sure the output can
  * be created (io_check_writable) and would not overwrite the input, read the points,
  * triangulate, optionally run the exact checker, and only then write the mesh atomically
- * (and the degeneracy record: its temporary is complete before the mesh is written and is
- * renamed into place only after the mesh was).
+ * (and the degeneracy record and the input map: their temporaries are complete before the
+ * mesh is written and are renamed into place only after the mesh was).
  * The summary line goes to stdout, --stats adds one JSON object on one line after it; the
  * progress bar goes to stderr only when stderr is a terminal; -q silences all but errors.
  */
@@ -40,7 +41,7 @@ static void progress_bar(void *user, double fraction)
 }
 
 typedef struct tri_args {
-    const char *input, *output, *degen, *memory;
+    const char *input, *output, *degen, *memory, *map;
     uint64_t threads, degen_limit;
     size_t memory_limit;  /* gtet_options.memory_limit, from --memory-limit */
     unsigned check, stats, quiet;
@@ -70,6 +71,11 @@ static const cli_opt tri_opts[] = {
      .invalid = "invalid degeneracy limit '{value}' (expected a count >= 0)",
      .help = "with --degeneracies: store at most N decisions (default 100000; the\n"
              "counts stay exact)"},
+    {.name = "--map", .kind = CLI_OPT_STRING, .off = offsetof(tri_args, map),
+     .arg = "FILE", .missing = "option {opt} needs a file name",
+     .help = "write where each input point went: after two '#' lines, line k (from 0)\n"
+             "is input point k's vertex, its 0-based position in the mesh's vertex list\n"
+             "(a duplicate: its first occurrence's vertex)"},
     {.name = "--memory-limit", .kind = CLI_OPT_STRING, .off = offsetof(tri_args, memory),
      .arg = "SIZE", .missing = "option {opt} needs a size (e.g. 16G, 512M, auto, off)",
      .help = "the memory the run may use: before the work it estimates its peak and\n"
@@ -95,6 +101,30 @@ const cli_command cli_cmd_triangulate = {
 };
 
 typedef struct tri_times { double start, read, kernel, check, write; } tri_times;
+
+/* --map: where each input point went (gtet_mesh_input_map), one line a point, after two
+ * comment lines that numpy.loadtxt and most readers skip.  The ids are positions in the
+ * vertex list of the mesh -o writes (the written files number their nodes from their own
+ * first index: 1 in .node and .msh, 0 in .vtu). */
+static void write_input_map(FILE *f, const gtet_mesh *mesh)
+{
+    const size_t n = gtet_mesh_num_points(mesh), nv = gtet_mesh_num_vertices(mesh);
+    const uint32_t *map = gtet_mesh_input_map(mesh);
+    fprintf(f, "# gigatet input map: %zu points, %zu vertices, %zu duplicates\n", n, nv,
+            gtet_mesh_num_duplicates(mesh));
+    fputs("# line k below, counting from 0: input point k's vertex, 0-based in the mesh's list\n",
+          f);
+    char buf[1 << 16], *p = buf;
+    for (size_t i = 0; i < n; i++) {
+        if (p > buf + sizeof buf - 24) {
+            fwrite(buf, 1, (size_t)(p - buf), f);
+            p = buf;
+        }
+        p = io_fmt_u64(p, map[i]);
+        *p++ = '\n';
+    }
+    fwrite(buf, 1, (size_t)(p - buf), f);
+}
 
 /* The predicate counters, then the recorded decisions of the symbolic perturbation
  * (gtet_mesh_degeneracies): mesh vertex ids with their coordinates in %.17g (they read back
@@ -272,6 +302,15 @@ static int parse_memory_limit(const char *s, size_t *out)
     return 1;
 }
 
+/* Is path one of the files -o output writes (output itself, or the .node beside an .ele)? */
+static int is_mesh_file(const char *path, const char *output)
+{
+    char *node = io_ele_node_path(output);
+    const int same = same_entry(path, output) || (node && same_entry(path, node));
+    free(node);
+    return same;
+}
+
 /* Usage errors of the output paths and options, before any file is touched. */
 static int tri_validate(tri_args *a, unsigned given)
 {
@@ -290,24 +329,27 @@ static int tri_validate(tri_args *a, unsigned given)
     if (a->degen && cli_overwrites_input(a->input, a->degen))
         return cli_usage("%s: writing the degeneracies would overwrite the input file %s",
                          a->degen, a->input);
-    if (a->degen && a->output) {
-        char *node = io_ele_node_path(a->output);
-        int same = same_entry(a->degen, a->output) || (node && same_entry(a->degen, node));
-        free(node);
-        if (same) return cli_usage("%s: both the mesh and the degeneracies would go there", a->degen);
-    }
+    if (a->degen && a->output && is_mesh_file(a->degen, a->output))
+        return cli_usage("%s: both the mesh and the degeneracies would go there", a->degen);
+    if (a->map && cli_overwrites_input(a->input, a->map))
+        return cli_usage("%s: writing the input map would overwrite the input file %s", a->map,
+                         a->input);
+    if (a->map && a->degen && same_entry(a->map, a->degen))
+        return cli_usage("%s: both the input map and the degeneracies would go there", a->map);
+    if (a->map && a->output && is_mesh_file(a->map, a->output))
+        return cli_usage("%s: both the mesh and the input map would go there", a->map);
     return CLI_OK;
 }
 
 /* Every output can be created: fail before the work, not after it. */
 static int tri_writable(const tri_args *a)
 {
-    const char *paths[3] = {a->output, NULL, a->degen};
+    const char *paths[4] = {a->output, NULL, a->degen, a->map};
     char *node = a->output ? io_ele_node_path(a->output) : NULL;
     paths[1] = node;
     io_error ioe;
     io_status is = IO_OK;
-    for (int i = 0; i < 3 && is == IO_OK; i++)
+    for (int i = 0; i < 4 && is == IO_OK; i++)
         if (paths[i]) is = io_check_writable(paths[i], &ioe);
     free(node);
     return is == IO_OK ? CLI_OK : cli_io_failed(is, &ioe);
@@ -382,7 +424,7 @@ static int tri_outputs(const tri_args *a, const double *xyz, size_t n, const gte
 {
     io_error ioe;
     io_status is = IO_OK;
-    io_out dout = {NULL, NULL, NULL};
+    io_out dout = {NULL, NULL, NULL}, mout = {NULL, NULL, NULL};
     if (a->check) {
         gtet_check_report rep;
         memset(&rep, 0, sizeof rep);
@@ -398,6 +440,10 @@ static int tri_outputs(const tri_args *a, const double *xyz, size_t n, const gte
         write_degeneracies(dout.f, a->input, mesh, (size_t)a->degen_limit);
         is = io_out_close(&dout, &ioe);
     }
+    if (is == IO_OK && a->map && (is = io_out_open(&mout, a->map, &ioe)) == IO_OK) {
+        write_input_map(mout.f, mesh);
+        is = io_out_close(&mout, &ioe);
+    }
     if (is == IO_OK && a->output) {
         double w0 = cli_now();
         is = io_write_mesh(a->output, gtet_mesh_vertices(mesh), gtet_mesh_num_vertices(mesh),
@@ -405,7 +451,9 @@ static int tri_outputs(const tri_args *a, const double *xyz, size_t n, const gte
         t->write = cli_now() - w0;
     }
     if (is == IO_OK && a->degen) is = io_out_commit(&dout, &ioe);
+    if (is == IO_OK && a->map) is = io_out_commit(&mout, &ioe);
     if (dout.tmp) io_out_abort(&dout);
+    if (mout.tmp) io_out_abort(&mout);
     return is == IO_OK ? CLI_OK : cli_io_failed(is, &ioe);
 }
 
