@@ -7,7 +7,7 @@
 #               thin slab whose later rounds' queries fetch points; a cube with a void, whose
 #               queries must not change when far tile vertices skip the ball test (D11)
 #   degenerate  a rank whose tile is empty, ranks without input points, tiny sets, duplicates
-#               across ranks, --check
+#               across ranks, the smallest ids all on one plane, --check
 #   io          .bin (MPI-IO) and .xyz (rank 0) give the same mesh; .ele/.msh; .pvtu read by VTK
 #   bad_input   NaN on one rank (exit 2 everywhere, naming the global index), an allocation
 #               failure on one rank (4 everywhere), coplanar input (3), a missing file (2),
