@@ -149,7 +149,7 @@ gtet_status mx_grid_far(run *R)
 {
     grid *G = &R->gr;
     if (R->m == 0) return GTET_OK;
-    G->far = mx_calloc(R->m, 1);
+    G->far = mx_calloc(R->m / 64 + 1, sizeof *G->far);
     size_t cells = (size_t)G->g[0] * (size_t)G->g[1] * (size_t)G->g[2];
     double *ab = mx_malloc(2 * (size_t)(G->g[0] + G->g[1] + G->g[2]) * sizeof *ab);
     unsigned char *occ = mx_malloc(cells);
@@ -186,7 +186,8 @@ gtet_status mx_grid_far(run *R)
             for (int x = 0; x < G->g[0]; x++, ci++) {
                 int i[3] = {x, y, z};
                 if (!occ[ci] || !far_cell(R, X, sat, i, rho)) continue;
-                for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++) G->far[j] = 1;
+                for (uint32_t j = G->start[ci]; j < G->start[ci + 1]; j++)
+                    G->far[j >> 6] |= (uint64_t)1 << (j & 63);
             }
 done:
     free(ab);

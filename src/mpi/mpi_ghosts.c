@@ -287,7 +287,8 @@ static gtet_status make_queries(run *R, vec *out)
         if (v[0] >= m && v[1] >= m && v[2] >= m && v[3] >= m) continue;
         /* a far tile vertex: the tet's circumball misses every other tile's box (D11) */
         int far = 0;
-        for (int i = 0; i < 4; i++) far |= v[i] < m && R->gr.far[v[i]];
+        const uint64_t *fb = R->gr.far;
+        for (int i = 0; i < 4; i++) far |= v[i] < m && (fb[v[i] >> 6] >> (v[i] & 63) & 1);
         /* the tet */
         for (int pass = far; pass < 5; pass++) {
             query Q;

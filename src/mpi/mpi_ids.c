@@ -373,6 +373,23 @@ static int seed_ok(const run *R, int stage, const double *x)
     }
 }
 
+/* the DIM_CAND records of t[0..m) with the smallest ids, ascending, into out (all m when fewer);
+ * their count.  A stage's smallest-id point passing seed_ok is the first candidate that passes,
+ * when one does: every point of a smaller id is a candidate (NOTES.md E228: one scan of the tile
+ * instead of one a stage) */
+#define DIM_CAND 32
+static size_t smallest_ids(const mpt *t, size_t m, mpt *out)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < m; i++) {
+        if (k == DIM_CAND && t[i].id >= out[k - 1].id) continue;
+        size_t j = k < DIM_CAND ? k++ : k - 1;
+        for (; j > 0 && out[j - 1].id > t[i].id; j--) out[j] = out[j - 1];
+        out[j] = t[i];
+    }
+    return k;
+}
+
 gtet_status mx_step_dimension(run *R)
 {
     mctx *c = &R->c;
@@ -381,10 +398,17 @@ gtet_status mx_step_dimension(run *R)
     gtet_status s = all ? GTET_OK : mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     if ((s = mx_agree(c, s)) != GTET_OK) return s;
     static const char *what[3] = {"all the same point", "all collinear", "all coplanar"};
+    mpt cand[DIM_CAND];
+    size_t nc = smallest_ids(R->tile, R->m, cand);
     for (int stage = 0; stage < 4; stage++) {
         mpt best = {{0, 0, 0}, NOID};
-        for (size_t i = 0; i < R->m; i++)
-            if (R->tile[i].id < best.id && seed_ok(R, stage, R->tile[i].x)) best = R->tile[i];
+        size_t k = 0;
+        while (k < nc && !seed_ok(R, stage, cand[k].x)) k++;
+        if (k < nc)
+            best = cand[k];
+        else if (nc < R->m)   /* no candidate passes: the whole tile */
+            for (size_t i = 0; i < R->m; i++)
+                if (R->tile[i].id < best.id && seed_ok(R, stage, R->tile[i].x)) best = R->tile[i];
         MPI_Allgather(&best, (int)sizeof best, MPI_BYTE, all, (int)sizeof best, MPI_BYTE,
                       c->comm);
         best.id = NOID;

@@ -152,8 +152,9 @@ typedef struct grid {
     int pdim[24][3], nlev;      /* level l's nodes per axis; the number of levels */
     uint32_t *sat;              /* (g0 + 1)(g1 + 1)(g2 + 1): the cells' point counts summed
                                    below each corner, for the answers' gate (mpi_lift.c) */
-    unsigned char *far;         /* per tile point (S's index < m): 1 when no tet of DT(S) at
-                                   it can reach another tile's box (mx_grid_far, D11) */
+    uint64_t *far;              /* a bit per tile point (S's index < m): set when no tet of
+                                   DT(S) at it can reach another tile's box (mx_grid_far, D11);
+                                   bits, as the queries read them at random (E226) */
 } grid;
 #define GB 4
 

@@ -100,17 +100,24 @@ gtet_status mx_fail(mctx *c, gtet_status status, const char *fmt, ...)
  * tiles' triangulations differ by 5-10 %) would otherwise spin in Open MPI's progress loop
  * (busy polling: 10 % of a rank's instructions at 250k points, np 2), on a CPU the other rank
  * or another job could use.  Tests for ~20 us first (a prompt answer costs no sleep), then
- * sleeps 50 us between tests. */
+ * sleeps between tests: 50 us, each nap a quarter longer than the last up to 1 ms, so that a
+ * wait of a few hundred ms (the other rank's longer triangulation) wakes a few hundred times,
+ * not thousands (each wake-up a system call and two context switches: NOTES.md E229); an
+ * answer is seen at most one nap late. */
+#define WAIT_NAP_MIN_NS 50000L
+#define WAIT_NAP_MAX_NS 1000000L
 void mx_wait(MPI_Request *rq)
 {
     int done = 0;
     double t0 = mx_now();
     MPI_Test(rq, &done, MPI_STATUS_IGNORE);
     while (!done && mx_now() - t0 < 20e-6) MPI_Test(rq, &done, MPI_STATUS_IGNORE);
-    struct timespec nap = {0, 50000};
+    struct timespec nap = {0, WAIT_NAP_MIN_NS};
     while (!done) {
         nanosleep(&nap, NULL);
         MPI_Test(rq, &done, MPI_STATUS_IGNORE);
+        nap.tv_nsec += nap.tv_nsec / 4;
+        if (nap.tv_nsec > WAIT_NAP_MAX_NS) nap.tv_nsec = WAIT_NAP_MAX_NS;
     }
 }
 

@@ -7,7 +7,7 @@
 #               thin slab whose later rounds' queries fetch points; a cube with a void, whose
 #               queries must not change when far tile vertices skip the ball test (D11)
 #   degenerate  a rank whose tile is empty, ranks without input points, tiny sets, duplicates
-#               across ranks, --check
+#               across ranks, the smallest ids all on one plane, --check
 #   io          .bin (MPI-IO) and .xyz (rank 0) give the same mesh; .ele/.msh; .pvtu read by VTK
 #   bad_input   NaN on one rank (exit 2 everywhere, naming the global index), an allocation
 #               failure on one rank (4 everywhere), coplanar input (3), a missing file (2),
@@ -244,7 +244,17 @@ with open('dups.xyz', 'w') as f:
     for x in q: f.write('%r %r %r\n' % x)
     f.write('0 -0.0 0\n')"
   ref dups dups.xyz
-  for np in 1 2 3 4; do same dups dups.xyz "$np" 2 --check; done ;;
+  for np in 1 2 3 4; do same dups dups.xyz "$np" 2 --check; done
+  # the 300 smallest ids on one plane, 3 points off it: the seeds' last stage finds no point
+  # among a tile's smallest ids and scans the whole tile (mpi_ids.c smallest_ids, NOTES.md E228)
+  python3 -c "
+import random
+r = random.Random(14)
+with open('plane300.xyz', 'w') as f:
+    for i in range(300): f.write('%.17g %.17g 0\n' % (r.random(), r.random()))
+    for i in range(3): f.write('%.17g %.17g %.17g\n' % (r.random(), r.random(), 0.5 + r.random()))"
+  ref plane300 plane300.xyz
+  for np in 1 2 3; do same plane300 plane300.xyz "$np" 1 --check; done ;;
 io)
   "$cli" generate uniform 5000 --seed 9 -o u.bin -q
   "$cli" generate uniform 5000 --seed 9 -o u.xyz -q
