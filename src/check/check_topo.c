@@ -204,11 +204,17 @@ gtet_status chk_facets(chk_ctx *c)
         if (!k) oom = 1;
 #pragma omp for schedule(dynamic, 1024)
         for (size_t v = 0; v < c->nv; v++)
-            if (k && v < bad && match_bucket(c, v, start, bucket, k, 0, &interior)) bad = v;
+            if (k && v < bad && !chk_stop(c, v) &&
+                match_bucket(c, v, start, bucket, k, 0, &interior))
+                bad = v;
         free(k);
     }
     if (oom) {
         st = chk_oom(c);
+        goto done;
+    }
+    if (chk_is_cancelled(c)) {  /* a skipped vertex may hide the first violation */
+        st = chk_cancelled(c);
         goto done;
     }
     if (bad != SIZE_MAX) {
@@ -338,7 +344,7 @@ static void u32_sort(uint32_t *a, size_t n)
 
 /* Distinct edges at each vertex (n_edges) and in all (returned): each edge filed under its
  * smaller vertex, each vertex's bucket sorted.  start: nv + 1 zeros; other: 6 nt entries. */
-static int64_t count_edges(const chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t *other)
+static int64_t count_edges(chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t *other)
 {
     const uint32_t *T = c->tets;
     const size_t nv = c->nv, nt = c->nt;
@@ -362,6 +368,7 @@ static int64_t count_edges(const chk_ctx *c, int64_t *n_edges, size_t *start, ui
 #pragma omp parallel for num_threads(c->threads) reduction(+ : E) schedule(dynamic, 1024) \
     if (nt > 8192)
     for (size_t v = 0; v < nv; v++) {
+        if (chk_stop(c, v)) continue;  /* the caller looks at the flag */
         u32_sort(other + start[v], start[v + 1] - start[v]);
         int64_t mine = 0;
         for (size_t k = start[v]; k < start[v + 1]; k++)
@@ -458,6 +465,10 @@ gtet_status chk_euler_links(chk_ctx *c)
     c->stage = "links";
     int64_t *n_edges = cnt, *n_facets = cnt + nv, *n_tets = cnt + 2 * nv, *n_comp = cnt + 3 * nv;
     const int64_t E = count_edges(c, n_edges, start, other);
+    if (chk_is_cancelled(c)) {
+        st = chk_cancelled(c);
+        goto done;
+    }
     const int64_t F = count_facets_and_links(c, n_facets, n_tets, n_comp, parent, on_hull);
     int64_t nused = 0;
     st = judge_links(c, n_edges, n_facets, n_tets, n_comp, on_hull, &nused);
