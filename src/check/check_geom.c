@@ -300,10 +300,16 @@ gtet_status chk_hull_convex(chk_ctx *c)
     return GTET_OK;
 }
 
+/* The oracle's stop hook: chk_stop on the tets' sum (the calling thread is thread 0 of the
+ * oracle's region, started from here). */
+static int volume_stop(void *c, size_t i) { return chk_stop(c, i); }
+
 gtet_status chk_volume(chk_ctx *c)
 {
     c->stage = "volume";
-    int s = orc_compare_volume(c->vertices, c->nv, c->tets, c->nt, c->hull, c->nh, c->threads);
+    int s = orc_compare_volume(c->vertices, c->nv, c->tets, c->nt, c->hull, c->nh, c->threads,
+                               c->cancel ? volume_stop : NULL, c);
+    if (chk_is_cancelled(c)) return chk_cancelled(c);
     if (s == 0) return GTET_OK;
     return chk_fail(c, "the tets' total volume is %s the volume the hull encloses",
                     s > 0 ? "larger than" : "smaller than");

@@ -185,14 +185,25 @@ gtet_status chk_facets(chk_ctx *c)
         goto done;
     }
     /* counting sort of the facets by their smallest vertex */
-    for (size_t tf = 0; tf < nf; tf++) start[facet_min(T + 4 * (tf / 4), (int)(tf % 4)) + 1]++;
+    for (size_t tf = 0; tf < nf; tf++) {
+        if (chk_stop(c, tf)) {
+            st = chk_cancelled(c);
+            goto done;
+        }
+        start[facet_min(T + 4 * (tf / 4), (int)(tf % 4)) + 1]++;
+    }
     size_t maxb = 0;
     for (size_t v = 0; v < c->nv; v++) {
         if (start[v + 1] > maxb) maxb = start[v + 1];
         start[v + 1] += start[v];
     }
-    for (size_t tf = 0; tf < nf; tf++)
+    for (size_t tf = 0; tf < nf; tf++) {
+        if (chk_stop(c, tf)) {
+            st = chk_cancelled(c);
+            goto done;
+        }
         bucket[start[facet_min(T + 4 * (tf / 4), (int)(tf % 4))]++] = (uint32_t)tf;
+    }
     for (size_t v = c->nv; v > 0; v--) start[v] = start[v - 1];  /* undo the fill's shift */
     start[0] = 0;
     size_t bad = SIZE_MAX, interior = 0;
@@ -349,17 +360,21 @@ static int64_t count_edges(chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t
     const uint32_t *T = c->tets;
     const size_t nv = c->nv, nt = c->nt;
     static const int ep[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-    for (size_t t = 0; t < nt; t++)
+    for (size_t t = 0; t < nt; t++) {
+        if (chk_stop(c, t)) return 0;  /* the caller looks at the flag */
         for (int k = 0; k < 6; k++) {
             uint32_t a = T[4 * t + ep[k][0]], b = T[4 * t + ep[k][1]];
             start[(a < b ? a : b) + 1]++;
         }
+    }
     for (size_t v = 0; v < nv; v++) start[v + 1] += start[v];
-    for (size_t t = 0; t < nt; t++)
+    for (size_t t = 0; t < nt; t++) {
+        if (chk_stop(c, t)) return 0;
         for (int k = 0; k < 6; k++) {
             uint32_t a = T[4 * t + ep[k][0]], b = T[4 * t + ep[k][1]];
             other[start[a < b ? a : b]++] = a < b ? b : a;
         }
+    }
     for (size_t v = nv; v > 0; v--) start[v] = start[v - 1];
     start[0] = 0;
     /* buckets in parallel; the counts are sums of increments (atomic for the other end), so
@@ -387,14 +402,15 @@ static int64_t count_edges(chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t
 /* Facets (each once) and tets at each vertex, hull vertices, and the components of each
  * vertex's link: a union-find over the tet corners (parent: 4 nt entries), two corners of one
  * vertex joined across every interior facet.  Returns the number of facets. */
-static int64_t count_facets_and_links(const chk_ctx *c, int64_t *n_facets, int64_t *n_tets,
+static int64_t count_facets_and_links(chk_ctx *c, int64_t *n_facets, int64_t *n_tets,
                                       int64_t *n_comp, uint32_t *parent, uint8_t *on_hull)
 {
     const uint32_t *T = c->tets;
     const size_t nt = c->nt;
     int64_t F = 0;
     for (size_t x = 0; x < 4 * nt; x++) parent[x] = (uint32_t)x;
-    for (size_t t = 0; t < nt; t++)
+    for (size_t t = 0; t < nt; t++) {
+        if (chk_stop(c, t)) return 0;  /* the caller looks at the flag */
         for (int f = 0; f < 4; f++) {
             n_tets[T[4 * t + f]]++;
             uint32_t u = c->adj[4 * t + f];
@@ -415,8 +431,11 @@ static int64_t count_facets_and_links(const chk_ctx *c, int64_t *n_facets, int64
                     }
             }
         }
-    for (size_t x = 0; x < 4 * nt; x++)
+    }
+    for (size_t x = 0; x < 4 * nt; x++) {
+        if (chk_stop(c, x)) return 0;
         if (chk_find(parent, (uint32_t)x) == x) n_comp[T[x]]++;
+    }
     return F;
 }
 
@@ -470,6 +489,10 @@ gtet_status chk_euler_links(chk_ctx *c)
         goto done;
     }
     const int64_t F = count_facets_and_links(c, n_facets, n_tets, n_comp, parent, on_hull);
+    if (chk_is_cancelled(c)) {
+        st = chk_cancelled(c);
+        goto done;
+    }
     int64_t nused = 0;
     st = judge_links(c, n_edges, n_facets, n_tets, n_comp, on_hull, &nused);
     if (st != GTET_OK) goto done;
