@@ -14,9 +14,9 @@
 #include "testutil.h"
 
 #ifdef GTET_TEST_SMALL
-#define GTET_TEST_N_CANONICAL 8000
+#define GTET_TEST_N_CANONICAL 6000
 #else
-#define GTET_TEST_N_CANONICAL 20000
+#define GTET_TEST_N_CANONICAL 12000
 #endif
 
 typedef struct poll_state {

@@ -290,7 +290,7 @@ static gtet_status check_against_input(chk_ctx *c, const vkey *keys, size_t nk, 
     for (size_t v = 0; v < c->nv; v++) first[v] = UINT32_MAX;
     uint64_t dups = 0;
     for (size_t i = 0; i < c->n; i++) {
-        if (chk_stop(c, i)) return chk_cancelled(c);
+        if (chk_stop_serial(c, i)) return chk_cancelled(c);
         const double *p = c->xyz + 3 * i;
         if (!finite3(p)) return chk_fail(c, "input point %zu has a non-finite coordinate", i);
         uint32_t v = find_vertex(keys, nk, p);

@@ -102,6 +102,13 @@ static inline int chk_stop(chk_ctx *c, size_t i)
     if ((i & CHK_POLL_MASK) == 0) return chk_poll(c);
     return __atomic_load_n(&c->cancelled, __ATOMIC_RELAXED);
 }
+/* The same for item i of a serial loop whose items are cheap (a few memory accesses, a binary
+ * search): polled every 16384 items, a few milliseconds. */
+#define CHK_POLL_SERIAL_MASK 16383u
+static inline int chk_stop_serial(chk_ctx *c, size_t i)
+{
+    return c->cancel && (i & CHK_POLL_SERIAL_MASK) == 0 && chk_poll(c);
+}
 
 gtet_status chk_inputs(chk_ctx *c);        /* check.c */
 gtet_status chk_orientation(chk_ctx *c);   /* check_geom.c */

@@ -186,7 +186,7 @@ gtet_status chk_facets(chk_ctx *c)
     }
     /* counting sort of the facets by their smallest vertex */
     for (size_t tf = 0; tf < nf; tf++) {
-        if (chk_stop(c, tf)) {
+        if (chk_stop_serial(c, tf)) {
             st = chk_cancelled(c);
             goto done;
         }
@@ -198,7 +198,7 @@ gtet_status chk_facets(chk_ctx *c)
         start[v + 1] += start[v];
     }
     for (size_t tf = 0; tf < nf; tf++) {
-        if (chk_stop(c, tf)) {
+        if (chk_stop_serial(c, tf)) {
             st = chk_cancelled(c);
             goto done;
         }
@@ -361,7 +361,7 @@ static int64_t count_edges(chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t
     const size_t nv = c->nv, nt = c->nt;
     static const int ep[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
     for (size_t t = 0; t < nt; t++) {
-        if (chk_stop(c, t)) return 0;  /* the caller looks at the flag */
+        if (chk_stop_serial(c, t)) return 0;  /* the caller looks at the flag */
         for (int k = 0; k < 6; k++) {
             uint32_t a = T[4 * t + ep[k][0]], b = T[4 * t + ep[k][1]];
             start[(a < b ? a : b) + 1]++;
@@ -369,7 +369,7 @@ static int64_t count_edges(chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t
     }
     for (size_t v = 0; v < nv; v++) start[v + 1] += start[v];
     for (size_t t = 0; t < nt; t++) {
-        if (chk_stop(c, t)) return 0;
+        if (chk_stop_serial(c, t)) return 0;
         for (int k = 0; k < 6; k++) {
             uint32_t a = T[4 * t + ep[k][0]], b = T[4 * t + ep[k][1]];
             other[start[a < b ? a : b]++] = a < b ? b : a;
@@ -410,7 +410,7 @@ static int64_t count_facets_and_links(chk_ctx *c, int64_t *n_facets, int64_t *n_
     int64_t F = 0;
     for (size_t x = 0; x < 4 * nt; x++) parent[x] = (uint32_t)x;
     for (size_t t = 0; t < nt; t++) {
-        if (chk_stop(c, t)) return 0;  /* the caller looks at the flag */
+        if (chk_stop_serial(c, t)) return 0;  /* the caller looks at the flag */
         for (int f = 0; f < 4; f++) {
             n_tets[T[4 * t + f]]++;
             uint32_t u = c->adj[4 * t + f];
@@ -433,7 +433,7 @@ static int64_t count_facets_and_links(chk_ctx *c, int64_t *n_facets, int64_t *n_
         }
     }
     for (size_t x = 0; x < 4 * nt; x++) {
-        if (chk_stop(c, x)) return 0;
+        if (chk_stop_serial(c, x)) return 0;
         if (chk_find(parent, (uint32_t)x) == x) n_comp[T[x]]++;
     }
     return F;
