@@ -422,20 +422,17 @@ GTET_API gtet_status gtet_check_arrays(const double *vertices, size_t nv, const 
                                        size_t nt, const uint32_t *neighbors, const double *xyz,
                                        size_t n, unsigned flags, gtet_check_report *report);
 
-/* The checker with options, for a caller that wants to stop a long check (a full check of a
- * big mesh runs for hours): gtet_check and gtet_check_arrays are these with only flags set.
- * Fields are only ever added at the end; initialise with gtet_check_options_init (or zero it),
- * then set what differs. */
+/* The checker with options (gtet_check and gtet_check_arrays are these with flags only), for
+ * a caller that wants to stop a long check.  Fields are only ever added at the end; initialise
+ * with gtet_check_options_init, then set what differs. */
 typedef struct gtet_check_options {
     unsigned flags;     /* GTET_CHECK_* as above; default 0 */
-    /* When not NULL, polled on the calling thread only: before each stage, and inside the
-     * stages' loops every 1024 tets (vertices, facets) of the calling thread's share, or every
-     * 1024 points tested against one tet in the full test; the other threads read a shared
-     * flag at every item and stop at once.  A nonzero return stops the check:
-     * GTET_ERR_CANCELLED, report->ok = 0, violation.stage "cancelled", the message names the
-     * stage that was running; no verdict, nothing leaked.  A check it never stops gives the
-     * verdict and report of the call without it.  Costs nothing when NULL.  (The Python module
-     * turns Ctrl-C into KeyboardInterrupt through it.) */
+    /* When not NULL, polled on the calling thread only: before each stage and inside the long
+     * loops (every 1024 items of its share; in the full test every 1024 points against a
+     * tet), milliseconds apart; the other threads read a shared flag at every item.  A nonzero
+     * return stops the check: GTET_ERR_CANCELLED, report->ok 0, violation.stage "cancelled",
+     * the message names the stage; no verdict, nothing leaked.  Never stopping, it changes no
+     * verdict nor report.  Costs nothing when NULL.  (Python's Ctrl-C goes through it.) */
     int (*cancel)(void *user);
     void *cancel_user;
 } gtet_check_options;
