@@ -62,7 +62,8 @@ typedef enum gtet_status {
     GTET_ERR_TOO_LARGE = 5,         /* more points or tets than the index types hold */
     GTET_ERR_CHECK_FAILED = 6,      /* the exact checker found a violated invariant */
     GTET_ERR_INTERNAL = 7,          /* a broken internal invariant: please report it */
-    GTET_ERR_CANCELLED = 8          /* gtet_options.cancel asked to stop; nothing leaked */
+    GTET_ERR_CANCELLED = 8          /* gtet_options.cancel (or gtet_check_options.cancel)
+                                       asked to stop; nothing leaked */
 } gtet_status;
 
 /* A static, never-NULL English description of a status. */
@@ -173,9 +174,10 @@ typedef struct gtet_options {
     /* Records stored at most when recording (their total count stays exact); default 100000. */
     size_t degeneracy_limit;
     /* When not NULL, polled on the calling thread (outside the parallel regions) before each
-     * BRIO round, before each parallel pass of a round, and every 65536 points of a pass on
-     * one thread; a nonzero return stops the run: GTET_ERR_CANCELLED, no mesh.  (The Python
-     * module turns Ctrl-C into KeyboardInterrupt through it.) */
+     * BRIO round, before each parallel pass of a round and every 65536 points of a pass on
+     * one thread, and with check during the check as gtet_check_options.cancel is (below); a
+     * nonzero return stops the run: GTET_ERR_CANCELLED, no mesh.  (The Python module turns
+     * Ctrl-C into KeyboardInterrupt through it.) */
     int (*cancel)(void *user);
     void *cancel_user;
     /* The memory guard.  Before any big allocation gtet_triangulate estimates the run's peak
@@ -353,7 +355,8 @@ typedef struct gtet_check_violation {
     const char *stage;      /* NULL when every invariant holds; else the checker stage that
                                failed, a stable identifier: "arguments", "vertices", "input",
                                "orientation", "facets", "neighbors", "hull_surface", "links",
-                               "euler", "delaunay", "hull", "volume", "full" */
+                               "euler", "delaunay", "hull", "volume", "full"; or
+                               "cancelled" (gtet_check_options.cancel stopped it) */
     uint64_t tet[2];        /* the tets involved (mesh order), or GTET_CHECK_NONE */
     int nvertices;          /* 0..5: the vertices involved, with their coordinates */
     uint32_t vertex[5];
@@ -387,7 +390,8 @@ typedef struct gtet_check_report {
 
 /* Check a mesh against the points it was built from (xyz may be NULL: then the vertex set is
  * not compared with the input).  Uses an independent exact GMP implementation of every
- * predicate.  Returns GTET_OK or GTET_ERR_CHECK_FAILED (or an allocation / argument error);
+ * predicate.  Returns GTET_OK or GTET_ERR_CHECK_FAILED (or an allocation / argument error;
+ * GTET_ERR_CANCELLED only through gtet_check_opt's cancel, below);
  * report may be NULL.  Runs on OpenMP's default thread count (OMP_NUM_THREADS), or on as many
  * threads as the process can start when that is fewer (the same verdict either way). */
 GTET_API gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsigned flags,
@@ -417,6 +421,33 @@ GTET_API gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t
 GTET_API gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t *tets,
                                        size_t nt, const uint32_t *neighbors, const double *xyz,
                                        size_t n, unsigned flags, gtet_check_report *report);
+
+/* The checker with options (gtet_check and gtet_check_arrays are these with flags only), for
+ * a caller that wants to stop a long check.  Fields are only ever added at the end; initialise
+ * with gtet_check_options_init, then set what differs. */
+typedef struct gtet_check_options {
+    unsigned flags;     /* GTET_CHECK_* as above; default 0 */
+    /* When not NULL, polled on the calling thread only: before each stage and inside the long
+     * loops (every 1024 items of its share; in the full test every 1024 points against a
+     * tet), milliseconds apart; the other threads read a shared flag at every item.  A nonzero
+     * return stops the check: GTET_ERR_CANCELLED, report->ok 0, violation.stage "cancelled",
+     * the message names the stage; no verdict, nothing leaked.  Never stopping, it changes no
+     * verdict nor report.  Costs nothing when NULL.  (Python's Ctrl-C goes through it.) */
+    int (*cancel)(void *user);
+    void *cancel_user;
+} gtet_check_options;
+
+/* Fill *opts with the defaults above (flags 0, no cancel). */
+GTET_API void gtet_check_options_init(gtet_check_options *opts);
+
+/* gtet_check and gtet_check_arrays with options (opts NULL: the defaults). */
+GTET_API gtet_status gtet_check_opt(const gtet_mesh *mesh, const double *xyz, size_t n,
+                                    const gtet_check_options *opts, gtet_check_report *report);
+GTET_API gtet_status gtet_check_arrays_opt(const double *vertices, size_t nv,
+                                           const uint32_t *tets, size_t nt,
+                                           const uint32_t *neighbors, const double *xyz,
+                                           size_t n, const gtet_check_options *opts,
+                                           gtet_check_report *report);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Comparing two meshes of one point set                                                      */

@@ -362,7 +362,8 @@ class Delaunay:
         full: add the O(n*m) empty-sphere test (small meshes only); delaunay: judge the
         Delaunay property with ties allowed instead of the canonical triangulation.  Returns
         the report (a dict, as `gigatet check --json`); raises CheckError (with .report) when
-        an invariant is violated."""
+        an invariant is violated.  Ctrl-C (SIGINT) stops it within milliseconds: the checker
+        polls Python's signal handlers, and KeyboardInterrupt comes out."""
         flags = (_CHECK_FULL if full else 0) | (_CHECK_DELAUNAY if delaunay else 0)
         return self._mesh.check(flags)
 

@@ -14,7 +14,8 @@
  *       vertex_neighbor_vertices(), vertex_input_index(), input_map(): new intp arrays, in
  *       input-point numbering (a vertex is named by the input index of its first occurrence).
  *   Mesh.find_simplex(xi): exact point location (gtet_orient3d) by a visibility walk.
- *   Mesh.check(flags), stats(), write(path).
+ *   Mesh.check(flags), stats(), write(path).  check releases the GIL and polls SIGINT
+ *       through gtet_check_options.cancel (KeyboardInterrupt within milliseconds).
  *   Mesh.__reduce__() / _restore(...): pickling and copying; the arrays themselves are saved
  *       and a Mesh is made from them by gtet_mesh_from_arrays (src/mesh/mesh.h), so the copy
  *       has the tets in the same order (a run with threads orders them as it goes).
@@ -325,9 +326,26 @@ static PyObject *mesh_check(MeshObject *m, PyObject *args)
     gtet_check_report rep;
     memset(&rep, 0, sizeof rep);
     gtet_status s;
+#ifdef GTET_HAVE_CANCEL
+    /* Ctrl-C: the checker polls SIGINT through gtet_check_options.cancel on this thread */
+    gtet_check_options opt;
+    gtet_check_options_init(&opt);
+    opt.flags = flags;
+    cancel_ctx cc = {NULL, 0};
+    opt.cancel = poll_signals;
+    opt.cancel_user = &cc;
+    cc.ts = PyEval_SaveThread();
+    s = gtet_check_opt(m->mesh, PyArray_DATA(m->points), (size_t)m->n, &opt, &rep);
+    PyEval_RestoreThread(cc.ts);
+    if (s == GTET_ERR_CANCELLED || cc.interrupted) {  /* the exception the handler raised */
+        if (!PyErr_Occurred()) PyErr_SetString(PyExc_KeyboardInterrupt, "gigatet: cancelled");
+        return NULL;
+    }
+#else
     Py_BEGIN_ALLOW_THREADS
     s = gtet_check(m->mesh, PyArray_DATA(m->points), (size_t)m->n, flags, &rep);
     Py_END_ALLOW_THREADS
+#endif
     if (s != GTET_OK && s != GTET_ERR_CHECK_FAILED) {
         gtet_error e;
         memset(&e, 0, sizeof e);

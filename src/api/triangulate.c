@@ -245,7 +245,11 @@ static gtet_status finish(run *r)
     st->seconds_total = r->t_done - r->t_start;
     if (!r->opts.check) return GTET_OK;
     gtet_check_report rep;
-    const gtet_status s = gtet_check(r->res, r->xyz, r->n, 0, &rep);
+    gtet_check_options co;  /* the run's cancel hook reaches into the check */
+    gtet_check_options_init(&co);
+    co.cancel = r->opts.cancel;
+    co.cancel_user = r->opts.cancel_user;
+    const gtet_status s = gtet_check_opt(r->res, r->xyz, r->n, &co, &rep);
     if (s != GTET_OK) base_error(r->err, s, SIZE_MAX, -1, "%s", rep.message);
     else input_done(r);
     if (verbose(r, 1)) say(r, "check: %s", s == GTET_OK ? "ok" : rep.message);

@@ -61,6 +61,29 @@ gtet_status chk_fail(chk_ctx *c, const char *fmt, ...)
     return GTET_ERR_CHECK_FAILED;
 }
 
+int chk_poll(chk_ctx *c)
+{
+    if (!c->cancel) return 0;
+    if (__atomic_load_n(&c->cancelled, __ATOMIC_RELAXED)) return 1;
+    const int level = omp_get_level();
+    if (level != c->level && (level != c->level + 1 || omp_get_thread_num() != 0)) return 0;
+    if (!c->cancel(c->cancel_user)) return 0;
+    __atomic_store_n(&c->cancelled, 1, __ATOMIC_RELAXED);
+    return 1;
+}
+
+gtet_status chk_cancelled(chk_ctx *c)
+{
+    gtet_check_report *r = c->report;
+    snprintf(r->message, sizeof r->message, "cancelled during the %s stage: no verdict",
+             c->stage);
+    r->ok = 0;
+    memset(&r->violation, 0, sizeof r->violation);
+    r->violation.stage = "cancelled";
+    r->violation.tet[0] = r->violation.tet[1] = GTET_CHECK_NONE;
+    return GTET_ERR_CANCELLED;
+}
+
 gtet_status chk_oom(chk_ctx *c)
 {
     snprintf(c->report->message, sizeof c->report->message,
@@ -267,6 +290,7 @@ static gtet_status check_against_input(chk_ctx *c, const vkey *keys, size_t nk, 
     for (size_t v = 0; v < c->nv; v++) first[v] = UINT32_MAX;
     uint64_t dups = 0;
     for (size_t i = 0; i < c->n; i++) {
+        if (chk_stop_serial(c, i)) return chk_cancelled(c);
         const double *p = c->xyz + 3 * i;
         if (!finite3(p)) return chk_fail(c, "input point %zu has a non-finite coordinate", i);
         uint32_t v = find_vertex(keys, nk, p);
@@ -317,6 +341,10 @@ gtet_status chk_inputs(chk_ctx *c)
         keys[v].id = (uint32_t)v;
     }
     qsort(keys, c->nv, sizeof *keys, vkey_cmp);
+    if (chk_poll(c)) {
+        st = chk_cancelled(c);
+        goto done;
+    }
     if ((st = check_distinct(c, keys, used, &nk)) != GTET_OK) goto done;
     if (c->xyz) st = check_against_input(c, keys, nk, first);
 done:
@@ -361,15 +389,17 @@ gtet_status chk_run(chk_ctx *c)
     c->closed = (c->flags & GTET_CHECK_DELAUNAY) != 0;
     c->report->mode = c->closed ? (unsigned)GTET_CHECK_DELAUNAY : 0u;
     c->report->violation.tet[0] = c->report->violation.tet[1] = GTET_CHECK_NONE;
-    gtet_status st = chk_inputs(c);
-    if (st == GTET_OK) st = chk_orientation(c);
-    if (st == GTET_OK) st = chk_facets(c);
-    if (st == GTET_OK) st = chk_hull_surface(c);
-    if (st == GTET_OK) st = chk_euler_links(c);
-    if (st == GTET_OK) st = chk_delaunay(c);
-    if (st == GTET_OK) st = chk_hull_convex(c);
-    if (st == GTET_OK) st = chk_volume(c);
-    if (st == GTET_OK && (c->flags & GTET_CHECK_FULL)) st = chk_full(c);
+    c->level = omp_get_level();
+    c->stage = "vertices";  /* a cancel names the stage running or just ended */
+    /* every stage, in order; a cancel is looked for before each (and inside the long ones) */
+    gtet_status (*const stage[])(chk_ctx *) = {
+        chk_inputs, chk_orientation, chk_facets, chk_hull_surface, chk_euler_links,
+        chk_delaunay, chk_hull_convex, chk_volume, chk_full};
+    const size_t nstages = sizeof stage / sizeof stage[0] - !(c->flags & GTET_CHECK_FULL);
+    gtet_status st = GTET_OK;
+    for (size_t i = 0; i < nstages && st == GTET_OK; i++)
+        st = chk_poll(c) ? chk_cancelled(c) : stage[i](c);
+    if (st == GTET_OK && chk_poll(c)) st = chk_cancelled(c);  /* no verdict once asked */
     if (st == GTET_OK) report_ok(c);
     if (st != GTET_OK) {
         free(c->cell);
@@ -391,9 +421,10 @@ gtet_status chk_run(chk_ctx *c)
 
 gtet_status chk_check_arrays(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
                              const uint32_t *neighbors, const double *xyz, size_t n,
-                             unsigned flags, gtet_check_report *report, uint32_t **cell,
-                             uint8_t **cell_hull)
+                             const gtet_check_options *opts, gtet_check_report *report,
+                             uint32_t **cell, uint8_t **cell_hull)
 {
+    const unsigned flags = opts ? opts->flags : 0u;
     gtet_check_report local;
     if (!report) report = &local;
     memset(report, 0, sizeof *report);
@@ -423,6 +454,8 @@ gtet_status chk_check_arrays(const double *vertices, size_t nv, const uint32_t *
     c.n = xyz ? n : 0;
     c.flags = flags;
     c.report = report;
+    c.cancel = opts ? opts->cancel : NULL;
+    c.cancel_user = opts ? opts->cancel_user : NULL;
     c.want_cells = cell != NULL;
     gtet_status st = chk_run(&c);
     if (cell) {
@@ -432,9 +465,25 @@ gtet_status chk_check_arrays(const double *vertices, size_t nv, const uint32_t *
     return st;
 }
 
+void gtet_check_options_init(gtet_check_options *opts)
+{
+    if (opts) memset(opts, 0, sizeof *opts);
+}
+
+gtet_status gtet_check_arrays_opt(const double *vertices, size_t nv, const uint32_t *tets,
+                                  size_t nt, const uint32_t *neighbors, const double *xyz,
+                                  size_t n, const gtet_check_options *opts,
+                                  gtet_check_report *report)
+{
+    return chk_check_arrays(vertices, nv, tets, nt, neighbors, xyz, n, opts, report, NULL, NULL);
+}
+
 gtet_status gtet_check_arrays(const double *vertices, size_t nv, const uint32_t *tets,
                               size_t nt, const uint32_t *neighbors, const double *xyz,
                               size_t n, unsigned flags, gtet_check_report *report)
 {
-    return chk_check_arrays(vertices, nv, tets, nt, neighbors, xyz, n, flags, report, NULL, NULL);
+    gtet_check_options o;
+    gtet_check_options_init(&o);
+    o.flags = flags;
+    return chk_check_arrays(vertices, nv, tets, nt, neighbors, xyz, n, &o, report, NULL, NULL);
 }

@@ -78,6 +78,7 @@ gtet_status chk_orientation(chk_ctx *c)
 #pragma omp parallel for num_threads(c->threads) reduction(min : bad) reduction(+ : nneg) \
     schedule(dynamic, 512) if (c->nt > 8192)
     for (size_t t = 0; t < c->nt; t++) {
+        if (chk_stop(c, t)) continue;
         const uint32_t *v = T + 4 * t;
         int o = chk_orient3d(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]));
         if (o < 0 && any) {
@@ -88,7 +89,9 @@ gtet_status chk_orientation(chk_ctx *c)
         }
     }
     gtet_status st = GTET_OK;
-    if (bad != SIZE_MAX) {
+    if (chk_is_cancelled(c)) {  /* a skipped tet may hide the first violation */
+        st = chk_cancelled(c);
+    } else if (bad != SIZE_MAX) {
         const uint32_t *v = T + 4 * bad;
         int o = chk_orient3d(c, P(v[0]), P(v[1]), P(v[2]), P(v[3]));
         chk_note(c, bad, GTET_CHECK_NONE, 4, v);
@@ -163,6 +166,7 @@ gtet_status chk_delaunay(chk_ctx *c)
 #pragma omp parallel for num_threads(c->threads) reduction(min : bad) reduction(+ : ties) \
     schedule(dynamic, 512) if (c->nt > 8192)
     for (size_t t = 0; t < c->nt; t++) {
+        if (chk_stop(c, t)) continue;
         const uint32_t *v = T + 4 * t;
         for (int f = 0; f < 4; f++) {
             uint32_t u = c->adj[4 * t + f];
@@ -176,6 +180,10 @@ gtet_status chk_delaunay(chk_ctx *c)
                 if (4 * t + f < bad) bad = 4 * t + (size_t)f;
             }
         }
+    }
+    if (chk_is_cancelled(c)) {
+        free(tie);
+        return chk_cancelled(c);
     }
     c->report->facets_checked = c->interior_facets;
     c->report->cospherical_facets = ties;
@@ -292,10 +300,16 @@ gtet_status chk_hull_convex(chk_ctx *c)
     return GTET_OK;
 }
 
+/* The oracle's stop hook: chk_stop on the tets' sum (the calling thread is thread 0 of the
+ * oracle's region, started from here). */
+static int volume_stop(void *c, size_t i) { return chk_stop(c, i); }
+
 gtet_status chk_volume(chk_ctx *c)
 {
     c->stage = "volume";
-    int s = orc_compare_volume(c->vertices, c->nv, c->tets, c->nt, c->hull, c->nh, c->threads);
+    int s = orc_compare_volume(c->vertices, c->nv, c->tets, c->nt, c->hull, c->nh, c->threads,
+                               c->cancel ? volume_stop : NULL, c);
+    if (chk_is_cancelled(c)) return chk_cancelled(c);
     if (s == 0) return GTET_OK;
     return chk_fail(c, "the tets' total volume is %s the volume the hull encloses",
                     s > 0 ? "larger than" : "smaller than");
@@ -317,8 +331,10 @@ gtet_status chk_full(chk_ctx *c)
 #pragma omp parallel for num_threads(c->threads) reduction(min : bad) schedule(dynamic, 16) \
     if (c->nt * c->nv > 1000000)
     for (size_t t = 0; t < c->nt; t++) {
+        if (chk_is_cancelled(c)) continue;
         const uint32_t *v = T + 4 * t;
         for (size_t w = 0; w < nv; w++) {
+            if (chk_stop(c, w)) break;
             if (w == v[0] || w == v[1] || w == v[2] || w == v[3]) continue;
             if (c->unused && c->unused[w]) continue;
             if (full_violates(c, v, w)) {
@@ -327,6 +343,7 @@ gtet_status chk_full(chk_ctx *c)
             }
         }
     }
+    if (chk_is_cancelled(c)) return chk_cancelled(c);
     if (bad != SIZE_MAX) {
         size_t t = bad / nv, w = bad % nv;
         const uint32_t *v = T + 4 * t;
@@ -338,6 +355,7 @@ gtet_status chk_full(chk_ctx *c)
     for (size_t h = 0; h < c->nh; h++) {
         const uint32_t *a = H + 3 * h;
         for (size_t w = 0; w < nv; w++) {
+            if (chk_stop(c, w)) return chk_cancelled(c);
             if (w == a[0] || w == a[1] || w == a[2]) continue;
             if (c->unused && c->unused[w]) continue;
             int s = c->closed ? chk_orient3d(c, P(a[0]), P(a[1]), P(a[2]), P(w))

@@ -33,6 +33,11 @@ typedef struct chk_ctx {
     int want_cells;             /* fill cell[] (gtet_diff) */
     int threads;                /* every parallel region's team: what OpenMP gives a region
                                    here and the process can start (chk_run) */
+    int (*cancel)(void *user);  /* gtet_check_options.cancel, or NULL */
+    void *cancel_user;
+    int level;                  /* omp_get_level() of the calling thread (chk_run) */
+    int cancelled;              /* set once cancel returned nonzero; read atomically by every
+                                   thread (chk_stop), written by the calling thread only */
     /* built by the stages */
     uint32_t *adj;              /* 4*nt: rebuilt adjacency, GTET_NO_TET on the hull */
     uint32_t *hull;             /* 3*nh: hull facets, outward oriented (ghost orientation) */
@@ -77,6 +82,34 @@ int chk_insphere_sos(const chk_ctx *c, const double *a, const double *b, const d
 int chk_ghost_conflict(const chk_ctx *c, const double *a, const double *b, const double *cc,
                        const double *e);
 
+/* Cancellation (gtet_check_options.cancel).  chk_poll calls the callback when it runs on the
+ * calling thread -- in serial code, or as thread 0 of a region the checker started, which
+ * OpenMP makes the encountering thread -- and returns the shared flag; a callback that once
+ * returned nonzero is not called again.  chk_stop(c, i) is for item i of a loop: it polls at
+ * every 1024th item and otherwise only reads the flag (nothing at all without a callback), so
+ * every thread leaves its share of the loop within an item of the calling thread's poll.
+ * chk_cancelled writes the report of a cancelled check and returns GTET_ERR_CANCELLED. */
+#define CHK_POLL_MASK 1023u
+int chk_poll(chk_ctx *c);
+gtet_status chk_cancelled(chk_ctx *c);
+static inline int chk_is_cancelled(const chk_ctx *c)
+{
+    return c->cancel && __atomic_load_n(&c->cancelled, __ATOMIC_RELAXED);
+}
+static inline int chk_stop(chk_ctx *c, size_t i)
+{
+    if (!c->cancel) return 0;
+    if ((i & CHK_POLL_MASK) == 0) return chk_poll(c);
+    return __atomic_load_n(&c->cancelled, __ATOMIC_RELAXED);
+}
+/* The same for item i of a serial loop whose items are cheap (a few memory accesses, a binary
+ * search): polled every 16384 items, a few milliseconds. */
+#define CHK_POLL_SERIAL_MASK 16383u
+static inline int chk_stop_serial(chk_ctx *c, size_t i)
+{
+    return c->cancel && (i & CHK_POLL_SERIAL_MASK) == 0 && chk_poll(c);
+}
+
 gtet_status chk_inputs(chk_ctx *c);        /* check.c */
 gtet_status chk_orientation(chk_ctx *c);   /* check_geom.c */
 gtet_status chk_facets(chk_ctx *c);        /* check_topo.c: fills adj, hull, hull_tf */
@@ -87,12 +120,12 @@ gtet_status chk_hull_convex(chk_ctx *c);   /* check_geom.c */
 gtet_status chk_volume(chk_ctx *c);        /* check_geom.c */
 gtet_status chk_full(chk_ctx *c);          /* check_geom.c */
 
-/* gtet_check_arrays(); with cell not NULL (closed mode) also hands over the Delaunay cells
+/* gtet_check_arrays_opt() (opts NULL: the defaults); with cell not NULL (closed mode) also hands over the Delaunay cells
  * (chk_ctx.cell, .cell_hull; NULL when the check failed), which the caller frees. */
 gtet_status chk_check_arrays(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
                              const uint32_t *neighbors, const double *xyz, size_t n,
-                             unsigned flags, gtet_check_report *report, uint32_t **cell,
-                             uint8_t **cell_hull);
+                             const gtet_check_options *opts, gtet_check_report *report,
+                             uint32_t **cell, uint8_t **cell_hull);
 
 /* The point of pts (n points `stride` bytes apart, each starting with its three doubles)
  * nearest to p in the max norm, when it lies within 1e-5 of p relative to p's largest

@@ -14,6 +14,16 @@
 gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsigned flags,
                        gtet_check_report *report)
 {
+    gtet_check_options o;
+    gtet_check_options_init(&o);
+    o.flags = flags;
+    return gtet_check_opt(mesh, xyz, n, &o, report);
+}
+
+gtet_status gtet_check_opt(const gtet_mesh *mesh, const double *xyz, size_t n,
+                           const gtet_check_options *opts, gtet_check_report *report)
+{
+    const unsigned flags = opts ? opts->flags : 0u;
     gtet_check_report local;
     if (!report) report = &local;
     memset(report, 0, sizeof *report);
@@ -38,6 +48,8 @@ gtet_status gtet_check(const gtet_mesh *mesh, const double *xyz, size_t n, unsig
     c.neighbors = gtet_mesh_neighbors(mesh);
     c.flags = flags;
     c.report = report;
+    c.cancel = opts ? opts->cancel : NULL;
+    c.cancel_user = opts ? opts->cancel_user : NULL;
     if ((!c.vertices && nv) || (!c.tets && nt) || (!c.neighbors && nt))
         return chk_fail(&c, "the mesh lacks its vertex, tet or neighbor array");
     if (xyz) {

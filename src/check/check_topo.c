@@ -185,14 +185,25 @@ gtet_status chk_facets(chk_ctx *c)
         goto done;
     }
     /* counting sort of the facets by their smallest vertex */
-    for (size_t tf = 0; tf < nf; tf++) start[facet_min(T + 4 * (tf / 4), (int)(tf % 4)) + 1]++;
+    for (size_t tf = 0; tf < nf; tf++) {
+        if (chk_stop_serial(c, tf)) {
+            st = chk_cancelled(c);
+            goto done;
+        }
+        start[facet_min(T + 4 * (tf / 4), (int)(tf % 4)) + 1]++;
+    }
     size_t maxb = 0;
     for (size_t v = 0; v < c->nv; v++) {
         if (start[v + 1] > maxb) maxb = start[v + 1];
         start[v + 1] += start[v];
     }
-    for (size_t tf = 0; tf < nf; tf++)
+    for (size_t tf = 0; tf < nf; tf++) {
+        if (chk_stop_serial(c, tf)) {
+            st = chk_cancelled(c);
+            goto done;
+        }
         bucket[start[facet_min(T + 4 * (tf / 4), (int)(tf % 4))]++] = (uint32_t)tf;
+    }
     for (size_t v = c->nv; v > 0; v--) start[v] = start[v - 1];  /* undo the fill's shift */
     start[0] = 0;
     size_t bad = SIZE_MAX, interior = 0;
@@ -204,11 +215,17 @@ gtet_status chk_facets(chk_ctx *c)
         if (!k) oom = 1;
 #pragma omp for schedule(dynamic, 1024)
         for (size_t v = 0; v < c->nv; v++)
-            if (k && v < bad && match_bucket(c, v, start, bucket, k, 0, &interior)) bad = v;
+            if (k && v < bad && !chk_stop(c, v) &&
+                match_bucket(c, v, start, bucket, k, 0, &interior))
+                bad = v;
         free(k);
     }
     if (oom) {
         st = chk_oom(c);
+        goto done;
+    }
+    if (chk_is_cancelled(c)) {  /* a skipped vertex may hide the first violation */
+        st = chk_cancelled(c);
         goto done;
     }
     if (bad != SIZE_MAX) {
@@ -338,22 +355,26 @@ static void u32_sort(uint32_t *a, size_t n)
 
 /* Distinct edges at each vertex (n_edges) and in all (returned): each edge filed under its
  * smaller vertex, each vertex's bucket sorted.  start: nv + 1 zeros; other: 6 nt entries. */
-static int64_t count_edges(const chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t *other)
+static int64_t count_edges(chk_ctx *c, int64_t *n_edges, size_t *start, uint32_t *other)
 {
     const uint32_t *T = c->tets;
     const size_t nv = c->nv, nt = c->nt;
     static const int ep[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-    for (size_t t = 0; t < nt; t++)
+    for (size_t t = 0; t < nt; t++) {
+        if (chk_stop_serial(c, t)) return 0;  /* the caller looks at the flag */
         for (int k = 0; k < 6; k++) {
             uint32_t a = T[4 * t + ep[k][0]], b = T[4 * t + ep[k][1]];
             start[(a < b ? a : b) + 1]++;
         }
+    }
     for (size_t v = 0; v < nv; v++) start[v + 1] += start[v];
-    for (size_t t = 0; t < nt; t++)
+    for (size_t t = 0; t < nt; t++) {
+        if (chk_stop_serial(c, t)) return 0;
         for (int k = 0; k < 6; k++) {
             uint32_t a = T[4 * t + ep[k][0]], b = T[4 * t + ep[k][1]];
             other[start[a < b ? a : b]++] = a < b ? b : a;
         }
+    }
     for (size_t v = nv; v > 0; v--) start[v] = start[v - 1];
     start[0] = 0;
     /* buckets in parallel; the counts are sums of increments (atomic for the other end), so
@@ -362,6 +383,7 @@ static int64_t count_edges(const chk_ctx *c, int64_t *n_edges, size_t *start, ui
 #pragma omp parallel for num_threads(c->threads) reduction(+ : E) schedule(dynamic, 1024) \
     if (nt > 8192)
     for (size_t v = 0; v < nv; v++) {
+        if (chk_stop(c, v)) continue;  /* the caller looks at the flag */
         u32_sort(other + start[v], start[v + 1] - start[v]);
         int64_t mine = 0;
         for (size_t k = start[v]; k < start[v + 1]; k++)
@@ -380,14 +402,15 @@ static int64_t count_edges(const chk_ctx *c, int64_t *n_edges, size_t *start, ui
 /* Facets (each once) and tets at each vertex, hull vertices, and the components of each
  * vertex's link: a union-find over the tet corners (parent: 4 nt entries), two corners of one
  * vertex joined across every interior facet.  Returns the number of facets. */
-static int64_t count_facets_and_links(const chk_ctx *c, int64_t *n_facets, int64_t *n_tets,
+static int64_t count_facets_and_links(chk_ctx *c, int64_t *n_facets, int64_t *n_tets,
                                       int64_t *n_comp, uint32_t *parent, uint8_t *on_hull)
 {
     const uint32_t *T = c->tets;
     const size_t nt = c->nt;
     int64_t F = 0;
     for (size_t x = 0; x < 4 * nt; x++) parent[x] = (uint32_t)x;
-    for (size_t t = 0; t < nt; t++)
+    for (size_t t = 0; t < nt; t++) {
+        if (chk_stop_serial(c, t)) return 0;  /* the caller looks at the flag */
         for (int f = 0; f < 4; f++) {
             n_tets[T[4 * t + f]]++;
             uint32_t u = c->adj[4 * t + f];
@@ -408,8 +431,11 @@ static int64_t count_facets_and_links(const chk_ctx *c, int64_t *n_facets, int64
                     }
             }
         }
-    for (size_t x = 0; x < 4 * nt; x++)
+    }
+    for (size_t x = 0; x < 4 * nt; x++) {
+        if (chk_stop_serial(c, x)) return 0;
         if (chk_find(parent, (uint32_t)x) == x) n_comp[T[x]]++;
+    }
     return F;
 }
 
@@ -458,7 +484,15 @@ gtet_status chk_euler_links(chk_ctx *c)
     c->stage = "links";
     int64_t *n_edges = cnt, *n_facets = cnt + nv, *n_tets = cnt + 2 * nv, *n_comp = cnt + 3 * nv;
     const int64_t E = count_edges(c, n_edges, start, other);
+    if (chk_is_cancelled(c)) {
+        st = chk_cancelled(c);
+        goto done;
+    }
     const int64_t F = count_facets_and_links(c, n_facets, n_tets, n_comp, parent, on_hull);
+    if (chk_is_cancelled(c)) {
+        st = chk_cancelled(c);
+        goto done;
+    }
     int64_t nused = 0;
     st = judge_links(c, n_edges, n_facets, n_tets, n_comp, on_hull, &nused);
     if (st != GTET_OK) goto done;

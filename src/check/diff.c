@@ -391,9 +391,11 @@ out:
 static gtet_status check_side(side *s, const double *xyz, size_t n)
 {
     s->check->tets = s->nt;
-    return chk_check_arrays(s->v, s->nv, s->t, s->nt, NULL, xyz, n,
-                            GTET_CHECK_DELAUNAY | GTET_CHECK_ANY_ORIENTATION, s->check,
-                            &s->cell, &s->cell_hull);
+    gtet_check_options o;
+    gtet_check_options_init(&o);
+    o.flags = GTET_CHECK_DELAUNAY | GTET_CHECK_ANY_ORIENTATION;
+    return chk_check_arrays(s->v, s->nv, s->t, s->nt, NULL, xyz, n, &o, s->check, &s->cell,
+                            &s->cell_hull);
 }
 
 /* Identical meshes with input points: the promise "against xyz when given" holds for them too,

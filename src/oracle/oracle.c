@@ -522,7 +522,7 @@ static int scaled_small(double x, int emin, int64_t *r)
  * 2^219, no overflow), added to sum at the end.  The other tets go through mpz.  Both are
  * exact, so the sum is the same either way. */
 static void volume_sum_tets(mpz_t sum, const double *vertices, const uint32_t *tets, size_t lo,
-                            size_t hi, int emin)
+                            size_t hi, int emin, int (*stop)(void *, size_t), void *stop_user)
 {
     mpz_t det, p[4][3], d[9];
     mpz_init(det);
@@ -533,6 +533,7 @@ static void volume_sum_tets(mpz_t sum, const double *vertices, const uint32_t *t
     for (int i = 0; i < 9; i++) m[i] = d[i];
     uint64_t pos[4] = {0, 0, 0, 0}, neg[4] = {0, 0, 0, 0};
     for (size_t t = lo; t < hi; t++) {
+        if (stop && stop(stop_user, t - lo)) break;  /* the sum is then of no use */
         int64_t q[4][3];
         int small = 1;
         for (int i = 0; i < 4 && small; i++)
@@ -575,7 +576,8 @@ static void volume_sum_tets(mpz_t sum, const double *vertices, const uint32_t *t
  * associative, so the total (and the sign returned) does not depend on the thread count or
  * the order of the additions. */
 int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
-                       const uint32_t *hull, size_t nh, int threads)
+                       const uint32_t *hull, size_t nh, int threads,
+                       int (*stop)(void *user, size_t i), void *stop_user)
 {
     int emin = INT_MAX;
 #pragma omp parallel for num_threads(threads) reduction(min : emin) schedule(static) \
@@ -598,7 +600,7 @@ int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, 
         mpz_init(part);
         int nth = omp_get_num_threads(), me = omp_get_thread_num();
         size_t lo = nt * (size_t)me / (size_t)nth, hi = nt * (size_t)(me + 1) / (size_t)nth;
-        volume_sum_tets(part, vertices, tets, lo, hi, emin);
+        volume_sum_tets(part, vertices, tets, lo, hi, emin, stop, stop_user);
 #pragma omp critical(gtet_orc_volume)
         mpz_add(sum, sum, part);
         mpz_clear(part);

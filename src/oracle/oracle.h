@@ -42,8 +42,12 @@ int orc_orient3d_avg(const double *const *pts, const int cnt[4]);
 /* Sign of (sum over tets of det[b-a; c-a; d-a]) - (sum over hull facets (a,b,c) of
  * det[a; b; c]), exact: 0 when the tets' total volume equals the volume the outward-oriented
  * hull facets enclose.  tets: 4*nt ids, hull: 3*nh ids into vertices (3*nv doubles).
- * threads: the team of its parallel regions (the answer does not depend on it). */
+ * threads: the team of its parallel regions (the answer does not depend on it).  stop (may be
+ * NULL) is called by every thread of the tets' sum with the index of its next tet within its
+ * range; a nonzero answer ends that thread's share early, and the sign returned is then
+ * meaningless (the checker's cancel, check_geom.c). */
 int orc_compare_volume(const double *vertices, size_t nv, const uint32_t *tets, size_t nt,
-                       const uint32_t *hull, size_t nh, int threads);
+                       const uint32_t *hull, size_t nh, int threads,
+                       int (*stop)(void *user, size_t i), void *stop_user);
 
 #endif
