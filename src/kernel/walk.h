@@ -34,8 +34,11 @@ static inline int orient_replaced(kctx *c, uint32_t t, int f, const double *p, i
 
 /* The facet of finite tet t to cross towards p: the first of `untested` (bit k: facet
  * (r + k) & 3) whose orient3d with p in its slot is negative, or -1 (t contains p in its
- * closure).  Counts one orient3d call a facet tested, as the scalar loop does. */
-static inline int walk_facet(kctx *c, uint32_t t, const double *p, uint32_t r, uint32_t untested)
+ * closure).  Counts one orient3d call a facet tested, as the scalar loop does.  Inlined
+ * always: as a call of its own (gcc's choice) it saved and restored six registers and
+ * realigned the stack at every step (NOTES.md E248). */
+static inline __attribute__((always_inline)) int walk_facet(kctx *c, uint32_t t, const double *p,
+                                                          uint32_t r, uint32_t untested)
 {
 #ifdef PRED_ORIENT3D_FACETS4
     const kmesh *m = c->m;
