@@ -110,6 +110,8 @@ typedef struct kctx {
      * one of level-first insertions (sampling 2) those both tests leave */
     uint8_t local_first, sampling;
     uint8_t avx2;                 /* km_insert runs the AVX2 instances (insert_avx2.c) */
+    uint8_t walk_inside;          /* the last walk ended in a finite tet whose tested facets
+                                     all put the point strictly inside (walk.h) */
     uint32_t order_left;          /* insertions before the order is reconsidered */
     uint64_t static_misses, sample_calls0;
     pred_is_level level;          /* the level filter's (pred_insphere_filter_packed_lv) */

@@ -38,8 +38,10 @@ static inline int orient_replaced(kctx *c, uint32_t t, int f, const double *p, i
  * always: as a call of its own (gcc's choice) it saved and restored six registers and
  * realigned the stack at every step (NOTES.md E248). */
 static inline __attribute__((always_inline)) int walk_facet(kctx *c, uint32_t t, const double *p,
-                                                          uint32_t r, uint32_t untested)
+                                                          uint32_t r, uint32_t untested,
+                                                          int *strict)
 {
+    *strict = 0;
 #ifdef PRED_ORIENT3D_FACETS4
     const kmesh *m = c->m;
     const uint32_t *v = m->tv + 4 * (size_t)t;
@@ -53,6 +55,7 @@ static inline __attribute__((always_inline)) int walk_facet(kctx *c, uint32_t t,
     if (__builtin_expect(und == 0, 1)) {
         if (!neg) {
             c->cnt.orient_calls += (uint64_t)__builtin_popcount(untested);
+            *strict = 1;  /* every facet tested decided positive by the filter: not zero */
             return -1;
         }
         const unsigned k = (unsigned)__builtin_ctz(neg);
@@ -111,9 +114,11 @@ static __attribute__((noinline, unused)) gtet_status km_walk_t(kctx *c, const do
          * the entry, a branch taken once in four at random (NOTES.md E167); at the start
          * entry is UINT32_MAX, and entry >> 2 is no slot (KM_MAX_SLOTS) */
         const uint32_t skip = entry >> 2 == t ? 1u << (((entry & 3) - r) & 3) : 0;
-        const int f = walk_facet(c, t, p, r, 15u & ~skip);
+        int strict;
+        const int f = walk_facet(c, t, p, r, 15u & ~skip, &strict);
         if (f < 0) {
             *found = t;
+            c->walk_inside = (uint8_t)strict;
             c->walk_steps += step;
             return GTET_OK;
         }
@@ -150,9 +155,13 @@ __attribute__((always_inline)) static inline gtet_status km_find_conflict(kctx *
         c->last_ghost = UINT32_MAX;
         if (*t0 != UINT32_MAX) return GTET_OK;
     }
+    c->walk_inside = 0;
     gtet_status s = km_walk_t(c, p, t0, 1);
     if (s != GTET_OK || *t0 == UINT32_MAX) return s;
-    if (km_conflicts_in(c, c->m->tv, c->m->v, c->m->ps.is_seps, local_first, *t0, p))
+    /* a finite tet with p strictly inside conflicts: its interior lies in the open
+     * circumball, so the insphere determinant is not zero and positive (NOTES.md E249) */
+    if (c->walk_inside ||
+        km_conflicts_in(c, c->m->tv, c->m->v, c->m->ps.is_seps, local_first, *t0, p))
         return GTET_OK;
     /* the located tet must conflict (locate.c) */
     if (c->colour) return GTET_ERR_INTERNAL;
