@@ -48,6 +48,80 @@ __attribute__((always_inline)) static inline int km_conflicts_in(kctx *c, const 
     return pred_insphere_sos_rest_log(a, b, cc, d, p, &m->ps, minors, &c->cnt, c->sos_log) > 0;
 }
 
+#if defined(PRED_INSPHERE_PACKED) && defined(__AVX2__)
+/* km_conflict_bit's calls the first bound leaves: what pred_insphere_filter_packed and
+ * pred_insphere_filter_packed_lv do after their first bound (the miss counted, the level
+ * moved), then the rest as km_conflicts_in; a function of its own, so that the search's loop
+ * keeps its registers */
+static __attribute__((noinline)) unsigned km_conflict_rest(kctx *c, const pred_is_lanes4_ *L,
+                                                           double det, double seps,
+                                                           int local_first, const double *a,
+                                                           const double *b, const double *cc,
+                                                           const double *d, const double *p)
+{
+    ++c->static_misses;
+    if (local_first) {
+        const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+        const double M = pred_hmax4_(_mm256_max_pd(
+            _mm256_max_pd(_mm256_and_pd(L->X, mag), _mm256_and_pd(L->Y, mag)),
+            _mm256_and_pd(L->Z, mag)));
+        if (M == M && M < PRED_IS_HI) {
+            const double w = pred_pow2_above_(M);
+            c->level.w = w;
+            c->level.sw = pred_min_(pred_insphere_static_eps(w, w, w), seps);
+        }
+    }
+    double minors[PRED_IS_NMINORS];
+    const int s = pred_insphere_packed4_rest_(L, det, seps, minors);
+    if (s != 0) {
+        c->cnt.insphere_calls++;
+        return s > 0;
+    }
+    return pred_insphere_sos_rest_log(a, b, cc, d, p, &c->m->ps, minors, &c->cnt, c->sos_log) > 0;
+}
+#endif
+
+/* km_conflicts_in for the cavity search (insert_steps.h dig), as 0 or 1 for the caller to
+ * use as data: on the common path the only branch is the filter's "decided", taken almost
+ * always, and the answer is the sign of det~ (NOTES.md E250).  The same answers, counts and
+ * filter-order state as km_conflicts_in: det~ and the first bound are the filter's
+ * (pred_insphere_filter_packed's seps, or pred_insphere_filter_packed_lv's level bound when
+ * every translated coordinate is inside the level, else seps), |det~| > bound is its two
+ * comparisons in one (a NaN or an infinite bound decides nothing either way), and a call it
+ * leaves runs the filter's rest on the same values (km_conflict_rest).  Without AVX2, and for
+ * a ghost, km_conflicts_in itself. */
+__attribute__((always_inline)) static inline unsigned km_conflict_bit(kctx *c, const uint32_t *tv,
+                                                                      const double *V, double seps,
+                                                                      int local_first, uint32_t t,
+                                                                      const double *p)
+{
+#if defined(PRED_INSPHERE_PACKED) && defined(__AVX2__)
+    const uint32_t *v = tv + 4 * (size_t)t;
+    if (__builtin_expect(v[3] != KM_GHOST, 1)) {
+        const double *a = V + 3 * (size_t)v[0], *b = V + 3 * (size_t)v[1];
+        const double *cc = V + 3 * (size_t)v[2], *d = V + 3 * (size_t)v[3];
+        pred_is_lanes4_ L;
+        const double det = pred_insphere_lanes4_(a, b, cc, d, p, &L);
+        double thr = seps;
+        if (local_first) {
+            const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+            const __m256d mx = _mm256_max_pd(
+                _mm256_max_pd(_mm256_and_pd(L.X, mag), _mm256_and_pd(L.Y, mag)),
+                _mm256_and_pd(L.Z, mag));
+            const __m256d w = _mm256_set1_pd(c->level.w);
+            const int inside = _mm256_movemask_pd(_mm256_cmp_pd(mx, w, _CMP_LT_OQ)) == 0xF;
+            thr = inside ? c->level.sw : seps;
+        }
+        if (__builtin_expect(__builtin_fabs(det) > thr, 1)) {
+            c->cnt.insphere_calls++;
+            return det > 0;
+        }
+        return km_conflict_rest(c, &L, det, seps, local_first, a, b, cc, d, p);
+    }
+#endif
+    return (unsigned)km_conflicts_in(c, tv, V, seps, local_first, t, p);
+}
+
 /* km_conflicts_in on c->m's arrays and bound */
 __attribute__((always_inline)) static inline int km_conflicts(kctx *c, uint32_t t, const double *p)
 {

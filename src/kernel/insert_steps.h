@@ -26,9 +26,10 @@ static int grow(void **buf, size_t *cap, size_t need, size_t elem)
 }
 
 /* The cavity search will read the records of t's neighbours: start loading them now, while
- * the tets queued before t are processed (a hint only).  With it the two arrays are as fast as one
- * 32-byte record per tet holding vertices and neighbours together (one line per tet instead of
- * two), and their compaction allocates nothing (NOTES.md D2). */
+ * the tets queued before t are processed (a hint only; dig calls it on t0 and, from then on,
+ * on the tet KM_PREFETCH_AHEAD places after the one it searches).  With it the two arrays are
+ * as fast as one 32-byte record per tet holding vertices and neighbours together (one line per
+ * tet instead of two), and their compaction allocates nothing (NOTES.md D2). */
 static inline void prefetch_neighbours(const kmesh *m, uint32_t t)
 {
     const uint32_t *n = m->tn + 4 * (size_t)t;
@@ -260,18 +261,34 @@ static void rollback(kctx *c, size_t ncav)
  * the new tets they become.  In a parallel pass every tet is checked to be this thread's
  * before it is marked (O2); a tet that is not rolls the marks back and defers.  *foreign: a
  * cavity tet has a vertex of another colour (own_min 3).  local_first: the insphere filter's
- * order (km_filter_order), a constant in each of its instances. */
+ * order (km_filter_order), a constant in each of its instances.
+ *
+ * The answer of each conflict test is data, not a branch (NOTES.md E250): it is a branch
+ * taken about half the time at random, and each miss threw away the work begun after it
+ * while the test's long chain of products resolved it.  Both outcomes are written, and the
+ * counts advance by the answer: u is appended to the cavity list (ncav += in), the boundary
+ * record of t's facet f is written at nb (nb += 1 - in), u's first vertex word gets the mark
+ * or keeps its value (| in << 31).  A slot written past a count is rewritten by the next
+ * test or never read, and the room for the four facets of t is checked before them.  The
+ * mark's store when u does not conflict writes the value already there; in a parallel pass
+ * it is made only to a tet this thread owns, which no other thread reads or writes during
+ * the pass (proofs/parallel.md C1, C3); a conflicting tet it does not own defers, as before.
+ * The kept cache takes u either way: a killed u is dead, so no later facet tests it. */
 #define KM_KEPT_CACHE 64
+/* The cavity tet whose neighbours' lines are fetched while tet i is searched: i + AHEAD
+ * (a prefetch at each kill made the answer a branch again; NOTES.md E250) */
+#define KM_PREFETCH_AHEAD 2
 KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, size_t *ncav_out,
-                        size_t *nb_out, int *foreign_out, int *deferred, const int local_first)
+                        size_t *nb_out, int *foreign_out, int *deferred, const int local_first,
+                        const int par)
 {
     kmesh *m = c->m;
     size_t ncav = 0, nb = 0;
     if (grow((void **)&c->cav, &c->cav_cap, 64, sizeof *c->cav)) return GTET_ERR_OUT_OF_MEMORY;
     /* the walk only enters, and starts from, tets of this thread (parallel pass); checked
      * again before the first write (O2) */
-    int foreign = 0;
-    if (c->colour) {
+    unsigned foreign = 0;
+    if (par) {
         const int own = km_owned(c, t0);
         if (!own) {
             c->conflicts++;
@@ -288,11 +305,13 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
     uint32_t kept[KM_KEPT_CACHE];
     memset(kept, 0xff, sizeof kept);
     /* read once a point (the arrays move only when fill grows them; NOTES.md E142) */
-    const uint32_t *const tv = m->tv, *const tn = m->tn;
+    uint32_t *const tv = m->tv;
+    const uint32_t *const tn = m->tn;
     const double *const V = m->v;
     const double seps = m->ps.is_seps;
     for (size_t i = 0; i < ncav; i++) {
-        uint32_t t = c->cav[i];
+        const uint32_t t = c->cav[i];
+        if (i + KM_PREFETCH_AHEAD < ncav) prefetch_neighbours(m, c->cav[i + KM_PREFETCH_AHEAD]);
         /* room for what t's four facets can add, checked once a tet rather than once a push;
          * and t's vertices, which every boundary record of t copies, read once (t is already
          * marked: its mark cleared in the copy) */
@@ -304,6 +323,7 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
         uint32_t tvt[4];
         memcpy(tvt, tv + 4 * (size_t)t, sizeof tvt);
         tvt[0] &= ~KM_DEAD;
+        const uint32_t tghost = tvt[3] == KM_GHOST;
         /* the facets whose neighbour is live, as a mask read before any test: the loop
          * below visits them in the same order as a test of each in turn would (a kill in it
          * is of a neighbour of t, which no other facet of t has), and it does not branch on
@@ -322,48 +342,49 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
         }
         for (; live; live &= live - 1) {
             const uint32_t f = (uint32_t)__builtin_ctz(live);
-            uint32_t h = hn[f];
-            uint32_t u = h >> 2;
+            const uint32_t h = hn[f];
+            const uint32_t u = h >> 2;
             uint32_t *k = &kept[u & (KM_KEPT_CACHE - 1)];
-            if (*k != u && km_conflicts_in(c, tv, V, seps, local_first, u, p)) {
-                if (c->colour) {
-                    const int own = km_owned(c, u);
-                    if (!own) {
-                        rollback(c, ncav);
-                        *deferred = 1;
-                        return GTET_OK;
-                    }
-                    foreign |= own == 2;
-                }
-                GTET_DEBUG_ASSERT(!c->colour || km_owned(c, u));  /* a write: ours (O2) */
-                km_kill(m, u);
-                prefetch_neighbours(m, u);
-                c->cav[ncav++] = u;
-            } else {
-                *k = u;
-                kbound *b = &c->bnd[nb++];
-                memcpy(b->v, tvt, sizeof b->v);
-                /* A ghost whose finite facet is on the boundary becomes a finite tet
-                 * (a,b,c,p).  The consistency of the hull rule with the interior rule
-                 * (proofs/perturbation.md) makes it positively oriented; a flat or inverted
-                 * tet would be a predicate bug, so it is checked (only for points outside
-                 * the current hull).  One branch, rarely taken: `f == 3` alone is a branch
-                 * taken about once in four, at random (NOTES.md E167). */
-                if (__builtin_expect((f == 3) & (tvt[3] == KM_GHOST), 0) &&
-                    pred_orient3d(km_pt(m, b->v[0]), km_pt(m, b->v[1]), km_pt(m, b->v[2]), p,
-                                  &c->cnt) <= 0) {
+            const uint32_t in = *k != u ? km_conflict_bit(c, tv, V, seps, local_first, u, p) : 0u;
+            if (par) {
+                const int own = km_owned(c, u);
+                if (__builtin_expect(own != 0, 1)) {
+                    tv[4 * (size_t)u] |= in << 31;  /* ours: nobody else's to read (C3) */
+                } else if (in) {                    /* in conflict and not ours: defer */
                     rollback(c, ncav);
-                    return GTET_ERR_INTERNAL;
+                    *deferred = 1;
+                    return GTET_OK;
                 }
-                b->v[f] = pid;
-                b->outer = h;
-                b->f = f;
+                foreign |= in & (own == 2);
+            } else {
+                tv[4 * (size_t)u] |= in << 31;
+            }
+            c->cav[ncav] = u;
+            ncav += in;
+            *k = u;
+            kbound *b = &c->bnd[nb];
+            nb += 1u - in;
+            memcpy(b->v, tvt, sizeof b->v);
+            b->v[f] = pid;
+            b->outer = h;
+            b->f = f;
+            /* A ghost whose finite facet is on the boundary becomes a finite tet (a,b,c,p).
+             * The consistency of the hull rule with the interior rule (proofs/perturbation.md)
+             * makes it positively oriented; a flat or inverted tet would be a predicate bug,
+             * so it is checked (only for points outside the current hull).  One branch, rarely
+             * taken: `f == 3` alone is a branch taken about once in four, at random (NOTES.md
+             * E167). */
+            if (__builtin_expect(((1u - in) & (uint32_t)(f == 3) & tghost) != 0, 0) &&
+                pred_orient3d(km_pt(m, tvt[0]), km_pt(m, tvt[1]), km_pt(m, tvt[2]), p,
+                              &c->cnt) <= 0) {
+                rollback(c, ncav);
+                return GTET_ERR_INTERNAL;
             }
         }
     }
     *ncav_out = ncav;
     *nb_out = nb;
-    *foreign_out = foreign;
+    *foreign_out = (int)foreign;
     return GTET_OK;
 }
 
@@ -466,7 +487,9 @@ static inline __attribute__((always_inline)) gtet_status km_insert_t(kctx *c, ui
     size_t ncav = 0, nb = 0;
     int foreign = 0;
     const int outside = km_is_ghost(c->m, t0);  /* p beyond a hull facet (the walk's ghost) */
-    s = dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred, local_first);
+    /* the search's instance for a parallel pass, or for a serial insertion (no ownership) */
+    s = c->colour ? dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred, local_first, 1)
+                  : dig(c, pid, p, t0, &ncav, &nb, &foreign, deferred, local_first, 0);
     if (s != GTET_OK) return s;
     if (*deferred) {
         c->defer_hint = t0;  /* in conflict with p: next to it (rolled back, live) */
