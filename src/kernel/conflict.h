@@ -83,7 +83,7 @@ static __attribute__((noinline)) unsigned km_conflict_rest(kctx *c, const pred_i
 
 /* km_conflicts_in for the cavity search (insert_steps.h dig), as 0 or 1 for the caller to
  * use as data: on the common path the only branch is the filter's "decided", taken almost
- * always, and the answer is the sign of det~ (NOTES.md E250).  The same answers, counts and
+ * always, and the answer is the sign of det~ (NOTES.md E252).  The same answers, counts and
  * filter-order state as km_conflicts_in: det~ and the first bound are the filter's
  * (pred_insphere_filter_packed's seps, or pred_insphere_filter_packed_lv's level bound when
  * every translated coordinate is inside the level, else seps), |det~| > bound is its two

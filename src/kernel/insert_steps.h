@@ -263,7 +263,7 @@ static void rollback(kctx *c, size_t ncav)
  * cavity tet has a vertex of another colour (own_min 3).  local_first: the insphere filter's
  * order (km_filter_order), a constant in each of its instances.
  *
- * The answer of each conflict test is data, not a branch (NOTES.md E250): it is a branch
+ * The answer of each conflict test is data, not a branch (NOTES.md E252): it is a branch
  * taken about half the time at random, and each miss threw away the work begun after it
  * while the test's long chain of products resolved it.  Both outcomes are written, and the
  * counts advance by the answer: u is appended to the cavity list (ncav += in), the boundary
@@ -273,10 +273,14 @@ static void rollback(kctx *c, size_t ncav)
  * mark's store when u does not conflict writes the value already there; in a parallel pass
  * it is made only to a tet this thread owns, which no other thread reads or writes during
  * the pass (proofs/parallel.md C1, C3); a conflicting tet it does not own defers, as before.
+ * Ownership is asked of every tested tet there, so it is asked cheaply: with own_min 4 the
+ * popped tet's vertices all have the thread's colour, and u, which shares three of them, is
+ * the thread's exactly when its fourth vertex has it too or is the vertex at infinity
+ * (km_owned's rule, one colour read); with own_min 3, km_owned_bits.
  * The kept cache takes u either way: a killed u is dead, so no later facet tests it. */
 #define KM_KEPT_CACHE 64
 /* The cavity tet whose neighbours' lines are fetched while tet i is searched: i + AHEAD
- * (a prefetch at each kill made the answer a branch again; NOTES.md E250) */
+ * (a prefetch at each kill made the answer a branch again; NOTES.md E252) */
 #define KM_PREFETCH_AHEAD 2
 KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, size_t *ncav_out,
                         size_t *nb_out, int *foreign_out, int *deferred, const int local_first,
@@ -311,7 +315,10 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
     const double seps = m->ps.is_seps;
     for (size_t i = 0; i < ncav; i++) {
         const uint32_t t = c->cav[i];
-        if (i + KM_PREFETCH_AHEAD < ncav) prefetch_neighbours(m, c->cav[i + KM_PREFETCH_AHEAD]);
+        /* (the last one again near the end of the list: a branch there was mispredicted
+         * once a point or so) */
+        const size_t ahead = i + KM_PREFETCH_AHEAD;
+        prefetch_neighbours(m, c->cav[ahead < ncav ? ahead : ncav - 1]);
         /* room for what t's four facets can add, checked once a tet rather than once a push;
          * and t's vertices, which every boundary record of t copies, read once (t is already
          * marked: its mark cleared in the copy) */
@@ -347,7 +354,13 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
             uint32_t *k = &kept[u & (KM_KEPT_CACHE - 1)];
             const uint32_t in = *k != u ? km_conflict_bit(c, tv, V, seps, local_first, u, p) : 0u;
             if (par) {
-                const int own = km_owned(c, u);
+                int own;  /* km_owned(c, u), as the comment above says */
+                if (__builtin_expect(c->own_min == 4, 1)) {
+                    const uint32_t apex = tv[h];
+                    own = (apex == KM_GHOST) | (c->colour[apex == KM_GHOST ? 0 : apex] == c->mine);
+                } else {
+                    own = km_owned_bits(c, u);
+                }
                 if (__builtin_expect(own != 0, 1)) {
                     tv[4 * (size_t)u] |= in << 31;  /* ours: nobody else's to read (C3) */
                 } else if (in) {                    /* in conflict and not ours: defer */
@@ -430,10 +443,16 @@ KM_STEP gtet_status fill(kctx *c, size_t ncav, size_t nb, int foreign, int *defe
         rollback(c, ncav);
         return GTET_ERR_OUT_OF_MEMORY;
     }
-    for (size_t i = ncav; i-- > 0;) c->freelist[c->nfree++] = c->cav[i];
-    /* the slots array reuses the cavity buffer (its content is now in the free list) */
+    /* The new tets take the cavity's own slots first, in the cavity's order, then the free
+     * list's from its top, then fresh ones.  The slots array is the cavity buffer, whose first
+     * min(nb, ncav) entries are those slots already; what the cavity leaves over goes to the
+     * free list with cav[nb] on top.  (The same slots, in the same order, as pushing the whole
+     * cavity in reverse and popping nb: two loops of ncav less a point; NOTES.md E253.) */
     uint32_t *slots = c->cav;
-    for (size_t i = 0; i < nb; i++) slots[i] = take_slot(c);
+    if (nb <= ncav)
+        for (size_t i = ncav; i-- > nb;) c->freelist[c->nfree++] = c->cav[i];
+    else
+        for (size_t i = ncav; i < nb; i++) slots[i] = take_slot(c);
     for (size_t i = 0; i < nb; i++) {
         const kbound *b = &c->bnd[i];
         uint32_t n = slots[i];

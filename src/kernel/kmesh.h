@@ -171,4 +171,20 @@ static inline int km_owned(const kctx *c, uint32_t t)
     return n >= 3 ? 2 : 0;
 }
 
+/* km_owned's answer without a branch on the colours (for the cavity search, which asks it of
+ * every tet it tests): a ghost's missing fourth colour is read as its vertex 0's again, so
+ * that four matches mean its three finite vertices match */
+static inline int km_owned_bits(const kctx *c, uint32_t t)
+{
+    const uint32_t *v = c->m->tv + 4 * (size_t)t;
+    const uint8_t *col = c->colour;
+    const uint8_t k = c->mine;
+    const unsigned ghost = v[3] == KM_GHOST;
+    const uint32_t v3 = ghost ? v[0] : v[3];
+    const unsigned n = (unsigned)(col[v[0]] == k) + (unsigned)(col[v[1]] == k) +
+                       (unsigned)(col[v[2]] == k) + (unsigned)(col[v3] == k);
+    const unsigned all = n == 4;
+    const unsigned three = (n == 3) & !ghost & (c->own_min == 3);
+    return (int)(all | three << 1);
+}
 #endif
