@@ -163,6 +163,57 @@ static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, u
     *nolid = none;
 }
 
+/* The 32-bit result (gtet_mpi_options.id_bits 32): the compacted rows translated where they
+ * lie, tv[k] from the local vertex to its global id (every global id fits: ids32_fits), nb[k]
+ * from the owned index to off + that index (the global tet id, which fits) or NOLID, which is
+ * GTET_MPI_NO_TET32; the NOLID count into *nolid (as widen).  No room, no fresh page: the rows
+ * are the result */
+static void narrow(uint32_t *tv, uint32_t *nb, size_t own, const uint64_t *vid, uint64_t off,
+                   uint64_t *nolid)
+{
+    const size_t n = 4 * own;
+    for (size_t k = 0; k < n; k++) {
+        if (k + 4 * OPF < n) __builtin_prefetch(vid + tv[k + 4 * OPF]);
+        tv[k] = (uint32_t)vid[tv[k]];
+    }
+    uint64_t none = 0;
+    const uint32_t o32 = (uint32_t)off;
+    for (size_t k = 0; k < n; k++) {
+        uint32_t x = nb[k];
+        none += x == NOLID;
+        nb[k] = x == NOLID ? GTET_MPI_NO_TET32 : o32 + x;
+    }
+    *nolid = none;
+}
+
+/* the global counts leave every vertex id and global tet id below GTET_MPI_NO_TET32 (the
+ * environment variable GTET_MPI_IDS32_LIMIT=N lowers the largest count allowed to N, for
+ * the tests of the fallback); the same answer on every rank, from global figures */
+static int ids32_fits(uint64_t vertices, uint64_t tets)
+{
+    uint64_t lim = (uint64_t)GTET_MPI_NO_TET32 - 1;
+    const char *e = getenv("GTET_MPI_IDS32_LIMIT");
+    if (e && *e) {
+        char *end;
+        unsigned long long v = strtoull(e, &end, 10);
+        if (!*end && v < lim) lim = v;
+    }
+    return vertices <= lim && tets <= lim;
+}
+
+/* the 32-bit result: the arrays narrowed where they lie (narrow), then given back what lies
+ * above the rows (the kernel's slots and the 64-bit room, not written) */
+static void narrow_arrays(run *R, gtet_mpi_result *res, size_t own, const uint64_t *vid,
+                          uint64_t *nolid)
+{
+    narrow(R->ptv, R->ptn, own, vid, res->tet_offset, nolid);
+    size_t bytes = (4 * own + 1) * sizeof(uint32_t);
+    uint32_t *a = realloc(R->ptv, bytes), *b = realloc(R->ptn, bytes);
+    res->tets32 = a ? a : R->ptv;   /* a failed shrink leaves the block as it was */
+    res->neighbors32 = b ? b : R->ptn;
+    R->ptv = R->ptn = NULL;
+}
+
 /* can block p (of the heap) grow in place to `bytes`?  With glibc: when the blocks after it are
  * free, as far as it needs -- known when a block of exactly the missing size, asked for, is
  * handed out right where p ends (then freed again; glibc grows a block in place into a free
@@ -390,7 +441,11 @@ static gtet_status match_facets(mctx *c, const outx *X, uint64_t nolid, gtet_mpi
     /* the hull facets: the slots left GTET_MPI_NO_TET, less those answered with a tet */
     uint64_t hull = nolid, ghull = 0;
     for (size_t k = 0; k < nr; k++) {
-        res->neighbors[sls[perm[k]]] = back[k];
+        if (res->neighbors32)   /* a tet id fits (ids32_fits) */
+            res->neighbors32[sls[perm[k]]] =
+                back[k] == GTET_MPI_NO_TET ? GTET_MPI_NO_TET32 : (uint32_t)back[k];
+        else
+            res->neighbors[sls[perm[k]]] = back[k];
         hull -= back[k] != GTET_MPI_NO_TET;
     }
     MPI_Allreduce(&hull, &ghull, 1, MPI_UINT64_T, MPI_SUM, c->comm);
@@ -446,6 +501,26 @@ static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *r
     if (lend(L, a, (w + 1) * sizeof *a) != 0 || lend(L, b, (w + 1) * sizeof *b) != 0)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
     return mx_agree(c, s);
+}
+
+/* the 64-bit result over the local mesh's arrays (widen_one), before the matching allocates
+ * anything that could take the memory an array without room grows into (can_grow); the vertex
+ * ids (*vid) and the used marks lend their pages once the tets are widened.  The status */
+static gtet_status widen_arrays(run *R, outx *X, uint64_t **vid, gtet_mpi_result *res,
+                                size_t own, lender *L, uint64_t *nolid)
+{
+    mctx *c = &R->c;
+    uint64_t unused;
+    if (widen_one(&R->ptv, &res->tets, own, *vid, res->tet_offset, &unused) != 0)
+        return mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    /* the vertex ids and the used marks are dead now: their pages go under the neighbours' */
+    int bad = lend(L, *vid, (R->ns + 1) * sizeof **vid) != 0 || lend(L, X->used, R->ns + 1) != 0;
+    *vid = NULL;
+    X->used = NULL;
+    if (bad) return mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
+    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, nolid) != 0)
+        return mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    return GTET_OK;
 }
 
 gtet_status mx_step_output(run *R, gtet_mpi_result *res)
@@ -520,27 +595,21 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     /* the vertices first: their arrays take the heap's free memory, and then S is dead: its
      * pages and the sort's lie under the result's room when it is widened (E221) */
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
+    /* 32 bits when asked for and every id fits (global figures: the same on every rank) */
+    int w32 = R->ids32 && ids32_fits(R->V, res->num_tets_global);
+    res->id_bits = w32 ? 32 : 64;
     lend_init(&L, R, own);
+    L.on = L.on && !w32;   /* a 32-bit result needs no room */
     if ((s = out_vertices(R, X.used, res, &L)) != GTET_OK) goto done;
     if (lend(&L, R->sp, R->scap * sizeof *R->sp) != 0 || lend_free_memory(&L) != 0)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
     R->sp = NULL;
     R->scap = 0;
-    /* the result over the local mesh's arrays, before the matching allocates anything that
-     * could take the memory an array without room grows into (can_grow) */
-    uint64_t nolid = 0, unused;
-    if (s == GTET_OK && widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset, &unused) != 0)
-        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    /* the vertex ids and the used marks are dead now: their pages go under the neighbours' */
-    if (s == GTET_OK) {
-        if (lend(&L, vid, (R->ns + 1) * sizeof *vid) != 0 || lend(&L, X.used, R->ns + 1) != 0)
-            s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
-        vid = NULL;
-        X.used = NULL;
-    }
-    if (s == GTET_OK &&
-        widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, &nolid) != 0)
-        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    uint64_t nolid = 0;
+    if (s == GTET_OK && w32)
+        narrow_arrays(R, res, own, vid, &nolid);
+    else if (s == GTET_OK)
+        s = widen_arrays(R, &X, &vid, res, own, &L, &nolid);
     lend_end(&L);
     if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, nolid, res);
 done:

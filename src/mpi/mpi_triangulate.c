@@ -41,6 +41,8 @@ void gtet_mpi_result_free(gtet_mpi_result *r)
     free(r->input_map);
     free(r->tets);
     free(r->neighbors);
+    free(r->tets32);
+    free(r->neighbors32);
     free(r->tet_offsets);
     free(r->tile_vertex_ids);
     free(r->tile_vertices);
@@ -82,9 +84,30 @@ static void run_free(run *R)
 #define GTET_MPI_LAYER 2.5
 #endif
 
+void gtet_mpi_options_init(gtet_mpi_options *mopts)
+{
+    if (!mopts) return;
+    memset(mopts, 0, sizeof *mopts);
+    mopts->id_bits = 64;
+}
+
 gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
                                  uint64_t first_index, const gtet_options *opts,
                                  gtet_mpi_result *result)
+{
+    return gtet_triangulate_mpi_opt(comm, xyz, n, first_index, opts, NULL, result);
+}
+
+/* the id width asked for: 32 or 64 on this rank, 0 when mopts holds anything else */
+static int asked_bits(const gtet_mpi_options *mopts)
+{
+    int b = mopts ? mopts->id_bits : 64;
+    return b == 32 || b == 64 ? b : 0;
+}
+
+gtet_status gtet_triangulate_mpi_opt(MPI_Comm comm, const double *xyz, size_t n,
+                                     uint64_t first_index, const gtet_options *opts,
+                                     const gtet_mpi_options *mopts, gtet_mpi_result *result)
 {
     double t0 = mx_now();
     run R;
@@ -119,6 +142,16 @@ gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
         R.c.sd = R.c.sc + R.c.size;
         R.c.rc = R.c.sd + R.c.size;
         R.c.rd = R.c.rc + R.c.size;
+    }
+    if ((s = mx_agree(&R.c, s)) != GTET_OK) goto fail;
+    {
+        /* the same width on every rank: the output's collective steps depend on it */
+        int b = asked_bits(mopts), mm[2] = {b, -b}, all[2];
+        MPI_Allreduce(mm, all, 2, MPI_INT, MPI_MAX, comm);
+        if (b == 0 || all[0] != -all[1])
+            s = mx_fail(&R.c, GTET_ERR_ARGUMENT, "rank %d: gtet_mpi_options.id_bits %s",
+                        R.c.rank, b == 0 ? "must be 32 or 64" : "differs between the ranks");
+        R.ids32 = b == 32;
     }
     if ((s = mx_agree(&R.c, s)) != GTET_OK) goto fail;
     double t = mx_now(), tp = 0;
