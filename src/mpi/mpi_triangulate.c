@@ -98,11 +98,20 @@ gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
     return gtet_triangulate_mpi_opt(comm, xyz, n, first_index, opts, NULL, result);
 }
 
-/* the id width asked for: 32 or 64 on this rank, 0 when mopts holds anything else */
-static int asked_bits(const gtet_mpi_options *mopts)
+/* the id width asked for (mopts->id_bits, 64 without mopts) into R->ids32: 32 or 64, the same
+ * on every rank, as the output's collective steps depend on it.  Collective (one
+ * MPI_Allreduce); GTET_ERR_ARGUMENT on this rank otherwise (the caller agrees on it) */
+static gtet_status take_id_bits(run *R, const gtet_mpi_options *mopts)
 {
     int b = mopts ? mopts->id_bits : 64;
-    return b == 32 || b == 64 ? b : 0;
+    if (b != 32 && b != 64) b = 0;
+    int mm[2] = {b, -b}, all[2];
+    MPI_Allreduce(mm, all, 2, MPI_INT, MPI_MAX, R->c.comm);
+    R->ids32 = b == 32;
+    if (b == 0 || all[0] != -all[1])
+        return mx_fail(&R->c, GTET_ERR_ARGUMENT, "rank %d: gtet_mpi_options.id_bits %s",
+                       R->c.rank, b == 0 ? "must be 32 or 64" : "differs between the ranks");
+    return GTET_OK;
 }
 
 gtet_status gtet_triangulate_mpi_opt(MPI_Comm comm, const double *xyz, size_t n,
@@ -144,16 +153,7 @@ gtet_status gtet_triangulate_mpi_opt(MPI_Comm comm, const double *xyz, size_t n,
         R.c.rd = R.c.rc + R.c.size;
     }
     if ((s = mx_agree(&R.c, s)) != GTET_OK) goto fail;
-    {
-        /* the same width on every rank: the output's collective steps depend on it */
-        int b = asked_bits(mopts), mm[2] = {b, -b}, all[2];
-        MPI_Allreduce(mm, all, 2, MPI_INT, MPI_MAX, comm);
-        if (b == 0 || all[0] != -all[1])
-            s = mx_fail(&R.c, GTET_ERR_ARGUMENT, "rank %d: gtet_mpi_options.id_bits %s",
-                        R.c.rank, b == 0 ? "must be 32 or 64" : "differs between the ranks");
-        R.ids32 = b == 32;
-    }
-    if ((s = mx_agree(&R.c, s)) != GTET_OK) goto fail;
+    if ((s = mx_agree(&R.c, take_id_bits(&R, mopts))) != GTET_OK) goto fail;
     double t = mx_now(), tp = 0;
     if ((s = mx_agree(&R.c, mx_step_validate(&R))) != GTET_OK) goto fail;
     /* the caller's points partitioned with their input indices; when no tile holds two equal
