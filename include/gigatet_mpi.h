@@ -127,8 +127,8 @@ typedef struct gtet_mpi_options {
      * result->id_bits is 32 when the global mesh's vertex and tet counts are both below
      * GTET_MPI_NO_TET32 (every id and tet id then fits, and GTET_MPI_NO_TET32 is no id);
      * otherwise the call falls back to a 64-bit result (id_bits 64), never failing or
-     * truncating for it.  A 32-bit result is translated where the rank's local rows lie,
-     * where a 64-bit one takes twice their memory (gtet_triangulate's own result is 32-bit).
+     * truncating for it.  A 32-bit result is the rank's local rows, written in place; a
+     * 64-bit one takes twice their memory (gtet_triangulate's own result is 32-bit).
      * The vertex ids of input_map, tile_vertex_ids and used_vertex_ids stay 64-bit. */
     int id_bits;
 } gtet_mpi_options;
@@ -148,10 +148,10 @@ GTET_API gtet_status gtet_triangulate_mpi_opt(MPI_Comm comm, const double *xyz, 
 
 GTET_API void gtet_mpi_result_free(gtet_mpi_result *result);   /* NULL-safe; zeroes it */
 
-/* Collective: the cross-rank part of the checker on a result (either id width).  Every owned tet positively
- * oriented (exact), every neighbour link symmetric (the tet across names this one back,
- * wherever it lives) with the two tets sharing the facet's three vertices and lying on
- * opposite sides of it, every interior facet locally Delaunay in the perturbed sense
+/* Collective: the cross-rank part of the checker on a result of either id width.  Every
+ * owned tet positively oriented (exact), every neighbour link symmetric (the tet across
+ * names this one back, wherever it lives) with the two tets sharing the facet's three
+ * vertices and lying on opposite sides of it, every interior facet locally Delaunay in the perturbed sense
  * (gtet_insphere_sos with the apex across, fetched from its rank), every global vertex used
  * by some tet.  (With opts.check, gtet_triangulate_mpi adds the full exact checker,
  * gtet_check, on each rank's local triangulation.)  GTET_OK or GTET_ERR_CHECK_FAILED on
