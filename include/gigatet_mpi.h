@@ -148,15 +148,15 @@ GTET_API gtet_status gtet_triangulate_mpi_opt(MPI_Comm comm, const double *xyz, 
 
 GTET_API void gtet_mpi_result_free(gtet_mpi_result *result);   /* NULL-safe; zeroes it */
 
-/* Collective: the cross-rank part of the checker on a result of either id width.  Every
- * owned tet positively oriented (exact), every neighbour link symmetric (the tet across
- * names this one back, wherever it lives) with the two tets sharing the facet's three
- * vertices and lying on opposite sides of it, every interior facet locally Delaunay in the
- * perturbed sense (gtet_insphere_sos with the apex across, fetched from its rank), every
- * global vertex used by some tet.  (With opts.check, gtet_triangulate_mpi adds the full exact checker,
- * gtet_check, on each rank's local triangulation.)  GTET_OK or GTET_ERR_CHECK_FAILED on
- * every rank, report->message saying the first failure; report->tets counts the global
- * tets, report->hull_facets the hull facets, report->facets_checked the interior links. */
+/* Collective: the cross-rank part of the checker on a result of either id width.  Every owned
+ * tet positively oriented (exact), every neighbour link symmetric (the tet across names this
+ * one back, wherever it lives) with the two tets sharing the facet's three vertices and lying
+ * on opposite sides of it, every interior facet locally Delaunay in the perturbed sense
+ * (gtet_insphere_sos with the apex across, fetched from its rank), every global vertex used by
+ * some tet.  (With opts.check, gtet_triangulate_mpi adds the full exact checker, gtet_check, on
+ * each rank's local triangulation.)  GTET_OK or GTET_ERR_CHECK_FAILED on every rank,
+ * report->message saying the first failure; report->tets counts the global tets,
+ * report->hull_facets the hull facets, report->facets_checked the interior links. */
 GTET_API gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *result,
                                     gtet_check_report *report);
 
