@@ -37,6 +37,8 @@ extern "C" {
 #define GTET_MPI_AUTO_INDEX UINT64_MAX
 /* A global tet id or vertex id that does not exist (a hull facet's neighbour). */
 #define GTET_MPI_NO_TET UINT64_MAX
+/* The same in a 32-bit result (gtet_mpi_options.id_bits = 32); equal to GTET_NO_TET. */
+#define GTET_MPI_NO_TET32 UINT32_MAX
 
 typedef struct gtet_mpi_stats {
     int ranks;                  /* size of the communicator */
@@ -85,9 +87,16 @@ typedef struct gtet_mpi_result {
     /* the tets this rank owns, global ids tet_offset .. tet_offset + num_tets - 1; the
        global tets are numbered rank by rank: rank r owns [tet_offsets[r], tet_offsets[r+1]) */
     size_t num_tets;
+    int id_bits;                  /* 64: the owned tets are in tets and neighbors (tets32 and
+                                     neighbors32 NULL); 32: in tets32 and neighbors32 (tets
+                                     and neighbors NULL), asked for with gtet_mpi_options and
+                                     given only when the global counts fit, see below.  The
+                                     same on every rank */
     uint64_t *tets;               /* 4 global vertex ids per tet, positively oriented */
     uint64_t *neighbors;          /* global tet id across the facet opposite vertex i, on any
                                      rank, or GTET_MPI_NO_TET on the hull */
+    uint32_t *tets32;             /* the same ids as tets, 32 bits */
+    uint32_t *neighbors32;        /* the same as neighbors, GTET_MPI_NO_TET32 on the hull */
     uint64_t tet_offset;
     uint64_t *tet_offsets;        /* ranks + 1 entries */
     /* the distinct points of this rank's tile (every global vertex is in exactly one tile) */
@@ -111,17 +120,43 @@ GTET_API gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size
                                           uint64_t first_index, const gtet_options *opts,
                                           gtet_mpi_result *result);
 
+/* What gtet_triangulate_mpi_opt adds to gtet_options.  Fill with gtet_mpi_options_init,
+ * then set what differs. */
+typedef struct gtet_mpi_options {
+    /* The width of the result's tet rows and neighbours: 64 (the default) or 32.  With 32,
+     * result->id_bits is 32 when the global mesh's vertex and tet counts are both below
+     * GTET_MPI_NO_TET32 (every id and tet id then fits, and GTET_MPI_NO_TET32 is no id);
+     * otherwise the call falls back to a 64-bit result (id_bits 64), never failing or
+     * truncating for it.  A 32-bit result is the rank's local rows, written in place; a
+     * 64-bit one takes twice their memory (gtet_triangulate's own result is 32-bit).
+     * The vertex ids of input_map, tile_vertex_ids and used_vertex_ids stay 64-bit. */
+    int id_bits;
+} gtet_mpi_options;
+
+/* Fill *mopts with the defaults above (id_bits 64). */
+GTET_API void gtet_mpi_options_init(gtet_mpi_options *mopts);
+
+/* gtet_triangulate_mpi with gtet_mpi_options (mopts NULL: the defaults; then it is
+ * gtet_triangulate_mpi).  Collective; mopts->id_bits must be 32 or 64, the same on every
+ * rank (GTET_ERR_ARGUMENT on every rank otherwise).  The environment variable
+ * GTET_MPI_IDS32_LIMIT=N (for tests) lowers the largest count a 32-bit result is given for
+ * to N, so that small inputs take the fallback. */
+GTET_API gtet_status gtet_triangulate_mpi_opt(MPI_Comm comm, const double *xyz, size_t n,
+                                              uint64_t first_index, const gtet_options *opts,
+                                              const gtet_mpi_options *mopts,
+                                              gtet_mpi_result *result);
+
 GTET_API void gtet_mpi_result_free(gtet_mpi_result *result);   /* NULL-safe; zeroes it */
 
-/* Collective: the cross-rank part of the checker on a result.  Every owned tet positively
- * oriented (exact), every neighbour link symmetric (the tet across names this one back,
- * wherever it lives) with the two tets sharing the facet's three vertices and lying on
- * opposite sides of it, every interior facet locally Delaunay in the perturbed sense
- * (gtet_insphere_sos with the apex across, fetched from its rank), every global vertex used
- * by some tet.  (With opts.check, gtet_triangulate_mpi adds the full exact checker,
- * gtet_check, on each rank's local triangulation.)  GTET_OK or GTET_ERR_CHECK_FAILED on
- * every rank, report->message saying the first failure; report->tets counts the global
- * tets, report->hull_facets the hull facets, report->facets_checked the interior links. */
+/* Collective: the cross-rank part of the checker on a result of either id width.  Every owned
+ * tet positively oriented (exact), every neighbour link symmetric (the tet across names this
+ * one back, wherever it lives) with the two tets sharing the facet's three vertices and lying
+ * on opposite sides of it, every interior facet locally Delaunay in the perturbed sense
+ * (gtet_insphere_sos with the apex across, fetched from its rank), every global vertex used by
+ * some tet.  (With opts.check, gtet_triangulate_mpi adds the full exact checker, gtet_check, on
+ * each rank's local triangulation.)  GTET_OK or GTET_ERR_CHECK_FAILED on every rank,
+ * report->message saying the first failure; report->tets counts the global tets,
+ * report->hull_facets the hull facets, report->facets_checked the interior links. */
 GTET_API gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *result,
                                     gtet_check_report *report);
 

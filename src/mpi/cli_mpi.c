@@ -242,7 +242,8 @@ static int read_root(const char *path, double **xyz, size_t *n, uint64_t *first,
 
 /* ---- output --------------------------------------------------------------------------- */
 
-/* gather the mesh to rank 0: vertices by global id, tets with 32-bit ids */
+/* gather the mesh to rank 0: vertices by global id, tets with 32-bit ids (a 32-bit result's
+ * rows as they are, a 64-bit one's narrowed: the vertex count was checked to fit) */
 static int gather_mesh(const gtet_mpi_result *r, double **vout, uint32_t **tout, char *msg,
                        size_t msize)
 {
@@ -264,9 +265,9 @@ static int gather_mesh(const gtet_mpi_result *r, double **vout, uint32_t **tout,
         vx = malloc((3 * r->num_vertices + 1) * sizeof *vx);
         vtmp = malloc((3 * r->num_vertices + 1) * sizeof *vtmp);
         ids = malloc((r->num_vertices + 1) * sizeof *ids);
-        tets = malloc((4 * r->num_tets_global + 1) * sizeof *tets);
+        if (r->id_bits != 32) tets = malloc((4 * r->num_tets_global + 1) * sizeof *tets);
         t32 = malloc((4 * r->num_tets_global + 1) * sizeof *t32);
-        if (!vx || !vtmp || !ids || !tets || !t32) code = XC_NOMEM;
+        if (!vx || !vtmp || !ids || (!tets && r->id_bits != 32) || !t32) code = XC_NOMEM;
     }
     if (!cnt) code = XC_NOMEM;
     if (code) snprintf(msg, msize, "rank %d: out of memory gathering the mesh", g_rank);
@@ -298,12 +299,17 @@ static int gather_mesh(const gtet_mpi_result *r, double **vout, uint32_t **tout,
             at += cnt[q];
         }
     }
-    MPI_Gatherv(r->tets, mt, MPI_UINT64_T, tets, cnt, cnt + 2 * g_size, MPI_UINT64_T, 0,
-                MPI_COMM_WORLD);
+    if (r->id_bits == 32)
+        MPI_Gatherv(r->tets32, mt, MPI_UINT32_T, t32, cnt, cnt + 2 * g_size, MPI_UINT32_T, 0,
+                    MPI_COMM_WORLD);
+    else
+        MPI_Gatherv(r->tets, mt, MPI_UINT64_T, tets, cnt, cnt + 2 * g_size, MPI_UINT64_T, 0,
+                    MPI_COMM_WORLD);
     if (g_rank == 0) {
         for (uint64_t i = 0; i < r->num_vertices; i++)
             memcpy(vx + 3 * ids[i], vtmp + 3 * i, 3 * sizeof(double));
-        for (uint64_t i = 0; i < 4 * r->num_tets_global; i++) t32[i] = (uint32_t)tets[i];
+        if (r->id_bits != 32)
+            for (uint64_t i = 0; i < 4 * r->num_tets_global; i++) t32[i] = (uint32_t)tets[i];
         *vout = vx;
         *tout = t32;
         vx = NULL;
@@ -339,10 +345,11 @@ static int write_pvtu(const char *out, const gtet_mpi_result *r, char *msg, size
     if (!code) {
         for (size_t i = 0; i < 4 * r->num_tets; i++) {
             /* used ids are sorted */
+            uint64_t id = r->id_bits == 32 ? r->tets32[i] : r->tets[i];
             size_t lo = 0, hi = r->num_used_vertices;
             while (hi - lo > 1) {
                 size_t mid = (lo + hi) / 2;
-                if (r->used_vertex_ids[mid] <= r->tets[i]) lo = mid;
+                if (r->used_vertex_ids[mid] <= id) lo = mid;
                 else hi = mid;
             }
             t32[i] = (uint32_t)lo;
@@ -482,11 +489,11 @@ static void print_stats(const args *a, const gtet_mpi_result *r, double seconds_
     if (g_rank) return;
     printf("{\"input\":\"%s\",\"ranks\":%d,\"threads_per_rank\":%ld,\"points\":%llu,"
            "\"vertices\":%llu,\"duplicates\":%llu,\"tets\":%llu,\"hull_facets\":%llu,"
-           "\"rounds\":%d,\"seconds_read\":%.6f,\"per_rank\":[",
+           "\"rounds\":%d,\"id_bits\":%d,\"seconds_read\":%.6f,\"per_rank\":[",
            a->input, g_size, a->threads, (unsigned long long)r->num_points_global,
            (unsigned long long)r->num_vertices, (unsigned long long)r->num_duplicates,
            (unsigned long long)r->num_tets_global, (unsigned long long)r->num_hull_facets,
-           r->stats.rounds, seconds_read);
+           r->stats.rounds, r->id_bits, seconds_read);
     for (int q = 0; q < g_size; q++) {
         const gtet_mpi_stats *s = &all[q];
         printf("%s{\"rank\":%d,\"tile_points\":%llu,\"ghost_points\":%llu,\"ghost_seeded\":%llu,"
@@ -594,7 +601,13 @@ int main(int argc, char **argv)
     opt.input_done_user = &xyz;
     gtet_mpi_result res;
     double t1 = mx_now();
-    gtet_status s = gtet_triangulate_mpi(MPI_COMM_WORLD, xyz, n, first, &opt, &res);
+    /* 32-bit ids, as gigatet triangulate's: the rows translated where they lie, no 64-bit
+     * copy (a mesh whose counts do not fit comes back with 64-bit ids; the writers and the
+     * checks take either) */
+    gtet_mpi_options mo;
+    gtet_mpi_options_init(&mo);
+    mo.id_bits = 32;
+    gtet_status s = gtet_triangulate_mpi_opt(MPI_COMM_WORLD, xyz, n, first, &opt, &mo, &res);
     double secs = mx_now() - t1;
     free(xyz);
     if (s != GTET_OK) {

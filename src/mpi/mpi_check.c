@@ -31,6 +31,26 @@ static const double *coords(const gtet_mpi_result *r, uint64_t id)
     return at ? r->used_vertices + 3 * (size_t)(at - r->used_vertex_ids) : NULL;
 }
 
+/* owned tet t's vertex i and its neighbour across facet i, whatever the result's width
+ * (GTET_MPI_NO_TET32 read as GTET_MPI_NO_TET) */
+static uint64_t vert(const gtet_mpi_result *r, size_t t, int i)
+{
+    return r->id_bits == 32 ? r->tets32[4 * t + (size_t)i] : r->tets[4 * t + (size_t)i];
+}
+
+static uint64_t neigh(const gtet_mpi_result *r, size_t t, int i)
+{
+    if (r->id_bits != 32) return r->neighbors[4 * t + (size_t)i];
+    uint32_t g = r->neighbors32[4 * t + (size_t)i];
+    return g == GTET_MPI_NO_TET32 ? GTET_MPI_NO_TET : g;
+}
+
+/* owned tet t's 4 vertex ids */
+static void tet_ids(const gtet_mpi_result *r, size_t t, uint64_t tv[4])
+{
+    for (int i = 0; i < 4; i++) tv[i] = vert(r, t, i);
+}
+
 static void facet_key(const uint64_t *tv, int f, uint64_t key[3])
 {
     int j = 0;
@@ -77,6 +97,10 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
     size_t *slot = NULL;
     if (!c.sc || !scnt || !rcnt || !r) s = mx_fail(&c, r ? GTET_ERR_OUT_OF_MEMORY : GTET_ERR_ARGUMENT,
                                                   "out of memory or NULL result");
+    else if (r->num_tets && (r->id_bits == 32 ? !r->tets32 || !r->neighbors32
+                                              : !r->tets || !r->neighbors))
+        s = mx_fail(&c, GTET_ERR_ARGUMENT, "rank %d: the result has no %d-bit tets", c.rank,
+                    r->id_bits == 32 ? 32 : 64);
     if (c.sc) {
         c.sd = c.sc + P;
         c.rc = c.sd + P;
@@ -84,7 +108,8 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
     }
     if ((s = mx_agree(&c, s)) != GTET_OK) goto done;
     for (size_t t = 0; t < r->num_tets && s == GTET_OK; t++) {
-        const uint64_t *tv = r->tets + 4 * t;
+        uint64_t tv[4];
+        tet_ids(r, t, tv);
         const double *p[4];
         for (int i = 0; i < 4; i++)
             if (!(p[i] = coords(r, tv[i])))
@@ -95,7 +120,7 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
             s = mx_fail(&c, GTET_ERR_CHECK_FAILED, "tet %llu is not positively oriented",
                         (unsigned long long)(r->tet_offset + t));
         for (int f = 0; f < 4; f++) {
-            uint64_t g = r->neighbors[4 * t + f];
+            uint64_t g = neigh(r, t, f);
             if (g == GTET_MPI_NO_TET) continue;
             if (g >= r->tet_offsets[P]) {
                 s = mx_fail(&c, GTET_ERR_CHECK_FAILED, "tet %llu: neighbour %llu out of range",
@@ -115,16 +140,19 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
         goto done;
     }
     for (int q = 0; q < P; q++) pos[q + 1] = pos[q] + scnt[q];
-    for (size_t t = 0; t < r->num_tets; t++)
+    for (size_t t = 0; t < r->num_tets; t++) {
+        uint64_t tv[4];
+        tet_ids(r, t, tv);
         for (int f = 0; f < 4; f++) {
-            uint64_t g = r->neighbors[4 * t + f];
+            uint64_t g = neigh(r, t, f);
             if (g == GTET_MPI_NO_TET) continue;
             size_t k = pos[rank_of_tet(r, P, g)]++;
             sb[k].g = g;
             sb[k].t = r->tet_offset + t;
-            facet_key(r->tets + 4 * t, f, sb[k].key);
+            facet_key(tv, f, sb[k].key);
             slot[k] = 4 * t + (size_t)f;
         }
+    }
     free(pos);
     size_t m;
     {
@@ -139,13 +167,14 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
         memset(&ans[k], 0, sizeof ans[k]);
         uint64_t lg = rb[k].g - r->tet_offset;
         if (rb[k].g < r->tet_offset || lg >= r->num_tets) continue;
-        const uint64_t *tv = r->tets + 4 * lg;
+        uint64_t tv[4];
+        tet_ids(r, (size_t)lg, tv);
         for (int f = 0; f < 4; f++) {
             uint64_t key[3];
             facet_key(tv, f, key);
             if (memcmp(key, rb[k].key, sizeof key)) continue;
             const double *x = coords(r, tv[f]);
-            if (r->neighbors[4 * lg + f] == rb[k].t && x) {
+            if (neigh(r, (size_t)lg, f) == rb[k].t && x) {
                 ans[k].ok = 1;
                 ans[k].apex = tv[f];
                 memcpy(ans[k].x, x, sizeof ans[k].x);
@@ -162,9 +191,10 @@ gtet_status gtet_check_mpi(MPI_Comm comm, const gtet_mpi_result *r, gtet_check_r
     for (size_t k = 0; k < nl && s == GTET_OK; k++) {
         size_t t = slot[k] / 4;
         int f = (int)(slot[k] % 4);
-        const uint64_t *tv = r->tets + 4 * t;
+        uint64_t tv[4];
+        tet_ids(r, t, tv);
         unsigned long long a = (unsigned long long)(r->tet_offset + t),
-                           b = (unsigned long long)r->neighbors[slot[k]];
+                           b = (unsigned long long)neigh(r, t, f);
         if (!back[k].ok) {
             s = mx_fail(&c, GTET_ERR_CHECK_FAILED, "tet %llu names tet %llu across its facet "
                         "%d, which does not name it back across the same three vertices", a, b, f);

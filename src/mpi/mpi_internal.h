@@ -204,6 +204,8 @@ typedef struct run {
     /* keys of the previous round's queried tets / hull facets, sorted */
     uint64_t (*prev)[4];
     size_t nprev;
+    int ids32;                  /* gtet_mpi_options.id_bits == 32: the output narrows the
+                                   rows where they lie when the global counts fit */
 } run;
 
 typedef struct ball {

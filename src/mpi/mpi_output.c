@@ -75,6 +75,8 @@ static int sort_used(const run *R, idpos *a, idpos *b, size_t n, uint64_t *ids, 
 #undef RADIX_BITS
 
 #define NOLID UINT32_MAX
+/* a 32-bit result's hull neighbour is the compaction's NOLID as it stands */
+_Static_assert(NOLID == GTET_MPI_NO_TET32, "NOLID is the 32-bit result's GTET_MPI_NO_TET32");
 
 
 /* Step 7 writes its result over the local mesh (NOTES.md E120, E130).  The owned tets' rows
@@ -87,17 +89,23 @@ static int sort_used(const run *R, idpos *a, idpos *b, size_t n, uint64_t *ids, 
  * reserve_tets); should a block lack it, the array grows in place when the memory after it is
  * free (can_grow), else it is widened into fresh memory.  Memory first touched is costly
  * (NOTES.md Q14): an array widened where it lies takes 16 B an owned tet of fresh memory, a
- * fresh result 32. */
+ * fresh result 32.  A 32-bit result (gtet_mpi_options.id_bits 32, when every id fits) needs no
+ * widening: the compaction writes its rows final, global vertex ids and global tet ids, and the
+ * arrays are the result (NOTES.md E250, E251). */
 typedef struct outx {
     uint32_t *lid;      /* local tet -> owned index, or NOLID */
     const uint64_t *vid;/* local vertex -> global id */
     uint8_t *used;      /* local vertex used by an owned tet */
     vec fr, slot;       /* facets to match across ranks; where their answer goes */
+    int w32;            /* the 32-bit result: the rows are written final (global ids) */
+    uint64_t nolid;     /* w32: the NOLID neighbours written (as widen counts them) */
 } outx;
 
 /* owned tet t (index o): its neighbours encoded into row o of nb (the owned index across, or
  * NOLID), a facet record for each one decided elsewhere, its vertices marked used; then its
- * vertex row moved to row o of tv.  -1 out of memory */
+ * vertex row moved to row o of tv.  With X->w32 the rows are the 32-bit result's instead
+ * (every id fits, ids32_fits): the neighbour across is its global tet id off + owned index,
+ * the vertices their global ids, so no later pass reads the rows again.  -1 out of memory */
 static int compact_tet(const run *R, outx *X, uint32_t *tv, uint32_t *nb, size_t t, uint64_t off)
 {
     size_t m = R->m, o = X->lid[t];
@@ -111,9 +119,11 @@ static int compact_tet(const run *R, outx *X, uint32_t *tv, uint32_t *nb, size_t
         uint32_t u = n[f];
         int tilev = (tile & ~(1u << f)) != 0;   /* facet f has a tile vertex */
         if (u != GTET_NO_TET && X->lid[u] != NOLID) {
-            nb[4 * o + (size_t)f] = X->lid[u];        /* both owned here: final (D7) */
+            /* both owned here: final (D7) */
+            nb[4 * o + (size_t)f] = X->w32 ? (uint32_t)off + X->lid[u] : X->lid[u];
         } else {
             nb[4 * o + (size_t)f] = NOLID;            /* a certified hull facet, or ... */
+            X->nolid++;
             if (u == GTET_NO_TET && tilev) continue;
             frec *r = mx_vec_push(&X->fr);            /* ... matched across ranks */
             uint64_t *sl = mx_vec_push(&X->slot);
@@ -128,6 +138,8 @@ static int compact_tet(const run *R, outx *X, uint32_t *tv, uint32_t *nb, size_t
             *sl = 4 * o + (size_t)f;
         }
     }
+    if (X->w32)
+        for (int i = 0; i < 4; i++) v[i] = (uint32_t)X->vid[v[i]];
     memcpy(tv + 4 * o, v, sizeof v);
     return 0;
 }
@@ -161,6 +173,32 @@ static void widen(void *dst, const void *src, size_t own, const uint64_t *vid, u
         }
     }
     *nolid = none;
+}
+
+/* the global counts leave every vertex id and global tet id below GTET_MPI_NO_TET32 (the
+ * environment variable GTET_MPI_IDS32_LIMIT=N lowers the largest count allowed to N, for
+ * the tests of the fallback); the same answer on every rank, from global figures */
+static int ids32_fits(uint64_t vertices, uint64_t tets)
+{
+    uint64_t lim = (uint64_t)GTET_MPI_NO_TET32 - 1;
+    const char *e = getenv("GTET_MPI_IDS32_LIMIT");
+    if (e && *e) {
+        char *end;
+        unsigned long long v = strtoull(e, &end, 10);
+        if (!*end && v < lim) lim = v;
+    }
+    return vertices <= lim && tets <= lim;
+}
+
+/* the 32-bit result: the compacted rows, already final (compact_tet), given back what lies
+ * above them (the kernel's slots and the 64-bit room, never written by the output) */
+static void take_rows32(run *R, gtet_mpi_result *res, size_t own)
+{
+    size_t bytes = (4 * own + 1) * sizeof(uint32_t);
+    uint32_t *a = realloc(R->ptv, bytes), *b = realloc(R->ptn, bytes);
+    res->tets32 = a ? a : R->ptv;   /* a failed shrink leaves the block as it was */
+    res->neighbors32 = b ? b : R->ptn;
+    R->ptv = R->ptn = NULL;
 }
 
 /* can block p (of the heap) grow in place to `bytes`?  With glibc: when the blocks after it are
@@ -390,7 +428,11 @@ static gtet_status match_facets(mctx *c, const outx *X, uint64_t nolid, gtet_mpi
     /* the hull facets: the slots left GTET_MPI_NO_TET, less those answered with a tet */
     uint64_t hull = nolid, ghull = 0;
     for (size_t k = 0; k < nr; k++) {
-        res->neighbors[sls[perm[k]]] = back[k];
+        if (res->neighbors32)   /* a tet id fits (ids32_fits) */
+            res->neighbors32[sls[perm[k]]] =
+                back[k] == GTET_MPI_NO_TET ? GTET_MPI_NO_TET32 : (uint32_t)back[k];
+        else
+            res->neighbors[sls[perm[k]]] = back[k];
         hull -= back[k] != GTET_MPI_NO_TET;
     }
     MPI_Allreduce(&hull, &ghull, 1, MPI_UINT64_T, MPI_SUM, c->comm);
@@ -448,6 +490,26 @@ static gtet_status out_vertices(run *R, const uint8_t *usedv, gtet_mpi_result *r
     return mx_agree(c, s);
 }
 
+/* the 64-bit result over the local mesh's arrays (widen_one), before the matching allocates
+ * anything that could take the memory an array without room grows into (can_grow); the vertex
+ * ids (*vid) and the used marks lend their pages once the tets are widened.  The status */
+static gtet_status widen_arrays(run *R, outx *X, uint64_t **vid, gtet_mpi_result *res,
+                                size_t own, lender *L, uint64_t *nolid)
+{
+    mctx *c = &R->c;
+    uint64_t unused;
+    if (widen_one(&R->ptv, &res->tets, own, *vid, res->tet_offset, &unused) != 0)
+        return mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    /* the vertex ids and the used marks are dead now: their pages go under the neighbours' */
+    int bad = lend(L, *vid, (R->ns + 1) * sizeof **vid) != 0 || lend(L, X->used, R->ns + 1) != 0;
+    *vid = NULL;
+    X->used = NULL;
+    if (bad) return mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
+    if (widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, nolid) != 0)
+        return mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    return GTET_OK;
+}
+
 gtet_status mx_step_output(run *R, gtet_mpi_result *res)
 {
     mctx *c = &R->c;
@@ -459,7 +521,7 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     mx_upper_clean();   /* E220 */
     uint32_t *tv = R->ptv, *nb = R->ptn;
     size_t m = R->m;
-    outx X = {NULL, NULL, NULL, {NULL, 0, 0, sizeof(frec)}, {NULL, 0, 0, sizeof(uint64_t)}};
+    outx X = {NULL, NULL, NULL, {NULL, 0, 0, sizeof(frec)}, {NULL, 0, 0, sizeof(uint64_t)}, 0, 0};
     lender L;
     lend_init(&L, R, 0);
     /* each local tet's index among the owned ones (NOLID: not owned); 4 B, as the neighbour
@@ -506,12 +568,18 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
     res->tet_offset = res->tet_offsets[me];
     res->num_tets_global = res->tet_offsets[P];
     res->num_tets = own;
+    /* 32 bits when asked for and every id fits (global figures: the same on every rank) */
+    X.w32 = R->ids32 && ids32_fits(R->V, res->num_tets_global);
+    res->id_bits = X.w32 ? 32 : 64;
     for (size_t t = 0; t < nt && s == GTET_OK; t++) {
-        if (t + OPF < nt)   /* row t + OPF is not compacted over yet (o <= t) */
+        if (t + OPF < nt) {   /* row t + OPF is not compacted over yet (o <= t) */
             for (int f = 0; f < 4; f++) {
                 uint32_t u = nb[4 * (t + OPF) + (size_t)f];
                 if (u < nt) __builtin_prefetch(X.lid + u);
             }
+            if (X.w32 && X.lid[t + OPF] != NOLID)   /* its vertex ids, read by compact_tet */
+                for (int i = 0; i < 4; i++) __builtin_prefetch(vid + tv[4 * (t + OPF) + i]);
+        }
         if (X.lid[t] != NOLID && compact_tet(R, &X, tv, nb, t, res->tet_offset) != 0)
             s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
     }
@@ -521,26 +589,18 @@ gtet_status mx_step_output(run *R, gtet_mpi_result *res)
      * pages and the sort's lie under the result's room when it is widened (E221) */
     if ((s = mx_agree(c, s)) != GTET_OK) goto done;
     lend_init(&L, R, own);
+    L.on = L.on && !X.w32;   /* a 32-bit result needs no room */
     if ((s = out_vertices(R, X.used, res, &L)) != GTET_OK) goto done;
     if (lend(&L, R->sp, R->scap * sizeof *R->sp) != 0 || lend_free_memory(&L) != 0)
         s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
     R->sp = NULL;
     R->scap = 0;
-    /* the result over the local mesh's arrays, before the matching allocates anything that
-     * could take the memory an array without room grows into (can_grow) */
-    uint64_t nolid = 0, unused;
-    if (s == GTET_OK && widen_one(&R->ptv, &res->tets, own, vid, res->tet_offset, &unused) != 0)
-        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
-    /* the vertex ids and the used marks are dead now: their pages go under the neighbours' */
-    if (s == GTET_OK) {
-        if (lend(&L, vid, (R->ns + 1) * sizeof *vid) != 0 || lend(&L, X.used, R->ns + 1) != 0)
-            s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory (pages)");
-        vid = NULL;
-        X.used = NULL;
-    }
-    if (s == GTET_OK &&
-        widen_one(&R->ptn, &res->neighbors, own, NULL, res->tet_offset, &nolid) != 0)
-        s = mx_fail(c, GTET_ERR_OUT_OF_MEMORY, "out of memory");
+    uint64_t nolid = 0;
+    if (s == GTET_OK && X.w32) {
+        take_rows32(R, res, own);
+        nolid = X.nolid;
+    } else if (s == GTET_OK)
+        s = widen_arrays(R, &X, &vid, res, own, &L, &nolid);
     lend_end(&L);
     if ((s = mx_agree(c, s)) == GTET_OK) s = match_facets(c, &X, nolid, res);
 done:

@@ -41,6 +41,8 @@ void gtet_mpi_result_free(gtet_mpi_result *r)
     free(r->input_map);
     free(r->tets);
     free(r->neighbors);
+    free(r->tets32);
+    free(r->neighbors32);
     free(r->tet_offsets);
     free(r->tile_vertex_ids);
     free(r->tile_vertices);
@@ -82,9 +84,39 @@ static void run_free(run *R)
 #define GTET_MPI_LAYER 2.5
 #endif
 
+void gtet_mpi_options_init(gtet_mpi_options *mopts)
+{
+    if (!mopts) return;
+    memset(mopts, 0, sizeof *mopts);
+    mopts->id_bits = 64;
+}
+
 gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
                                  uint64_t first_index, const gtet_options *opts,
                                  gtet_mpi_result *result)
+{
+    return gtet_triangulate_mpi_opt(comm, xyz, n, first_index, opts, NULL, result);
+}
+
+/* the id width asked for (mopts->id_bits, 64 without mopts) into R->ids32: 32 or 64, the same
+ * on every rank, as the output's collective steps depend on it.  Collective (one
+ * MPI_Allreduce); GTET_ERR_ARGUMENT on this rank otherwise (the caller agrees on it) */
+static gtet_status take_id_bits(run *R, const gtet_mpi_options *mopts)
+{
+    int b = mopts ? mopts->id_bits : 64;
+    if (b != 32 && b != 64) b = 0;
+    int mm[2] = {b, -b}, all[2];
+    MPI_Allreduce(mm, all, 2, MPI_INT, MPI_MAX, R->c.comm);
+    R->ids32 = b == 32;
+    if (b == 0 || all[0] != -all[1])
+        return mx_fail(&R->c, GTET_ERR_ARGUMENT, "rank %d: gtet_mpi_options.id_bits %s",
+                       R->c.rank, b == 0 ? "must be 32 or 64" : "differs between the ranks");
+    return GTET_OK;
+}
+
+gtet_status gtet_triangulate_mpi_opt(MPI_Comm comm, const double *xyz, size_t n,
+                                     uint64_t first_index, const gtet_options *opts,
+                                     const gtet_mpi_options *mopts, gtet_mpi_result *result)
 {
     double t0 = mx_now();
     run R;
@@ -121,6 +153,7 @@ gtet_status gtet_triangulate_mpi(MPI_Comm comm, const double *xyz, size_t n,
         R.c.rd = R.c.rc + R.c.size;
     }
     if ((s = mx_agree(&R.c, s)) != GTET_OK) goto fail;
+    if ((s = mx_agree(&R.c, take_id_bits(&R, mopts))) != GTET_OK) goto fail;
     double t = mx_now(), tp = 0;
     if ((s = mx_agree(&R.c, mx_step_validate(&R))) != GTET_OK) goto fail;
     /* the caller's points partitioned with their input indices; when no tile holds two equal

@@ -8,7 +8,9 @@
 #               queries must not change when far tile vertices skip the ball test (D11)
 #   degenerate  a rank whose tile is empty, ranks without input points, tiny sets, duplicates
 #               across ranks, the smallest ids all on one plane, --check
-#   io          .bin (MPI-IO) and .xyz (rank 0) give the same mesh; .ele/.msh; .pvtu read by VTK
+#   io          .bin (MPI-IO) and .xyz (rank 0) give the same mesh; .ele/.msh; .pvtu read by VTK;
+#               the library's fallback to 64-bit ids (GTET_MPI_IDS32_LIMIT) gives the CLI the
+#               same mesh and .pvtu pieces
 #   bad_input   NaN on one rank (exit 2 everywhere, naming the global index), an allocation
 #               failure on one rank (4 everywhere), coplanar input (3), a missing file (2),
 #               usage (1), an unwritable output (2, no partial files): each under a time limit
@@ -284,8 +286,19 @@ assert g.GetNumberOfCells() == len(tets) == len(ref) and tets == ref, (len(tets)
 print('pvtu: %d pieces, %d tets, the single-process set' % (r.GetNumberOfPieces(), len(tets)))
 PY
   then ok ".pvtu read by VTK, identical"; else bad ".pvtu"; fi
+  # the CLI asks for 32-bit ids; with GTET_MPI_IDS32_LIMIT below the counts the library falls
+  # back to 64-bit ids: the same mesh, checked, and the same .pvtu pieces byte for byte
+  export GTET_MPI_IDS32_LIMIT=100
+  for np in 1 3; do same u u.bin "$np" 1 --check; done
+  run 4 "$mpicli" triangulate u.bin -o pieces64.pvtu -q
+  if run 2 "$mpicli" triangulate u.bin --stats | python3 -c "import json,sys; assert json.load(sys.stdin)['id_bits'] == 64"
+  then ok "--stats: 64-bit ids past GTET_MPI_IDS32_LIMIT"; else bad "--stats id_bits with the limit"; fi
+  unset GTET_MPI_IDS32_LIMIT
+  p64=0
+  for q in 0 1 2 3; do cmp -s "pieces_$q.vtu" "pieces64_$q.vtu" || p64=1; done
+  if [ "$p64" = 0 ]; then ok ".pvtu pieces of a 64-bit result identical"; else bad ".pvtu 64-bit pieces differ"; fi
   # --stats is one JSON object
-  if run 2 "$mpicli" triangulate u.bin --stats | python3 -c "import json,sys; d=json.load(sys.stdin); assert d['ranks']==2 and len(d['per_rank'])==2"
+  if run 2 "$mpicli" triangulate u.bin --stats | python3 -c "import json,sys; d=json.load(sys.stdin); assert d['ranks']==2 and len(d['per_rank'])==2 and d['id_bits']==32"
   then ok "--stats JSON"; else bad "--stats"; fi ;;
 bad_input)
   "$cli" generate uniform 4000 --seed 4 -o u.bin -q

@@ -1,11 +1,14 @@
 /* test_mpi_api.c -- gtet_triangulate_mpi through its C API, under mpirun -np 1..4:
  * explicit first_index ranges in reverse rank order, an empty rank, duplicates across ranks;
  * the input map, the tets and every neighbour link equal gtet_triangulate's on the whole set;
- * gtet_check_mpi accepts the result; opts.input_done is called exactly once on each rank (the
+ * gtet_check_mpi accepts the result; the same with 32-bit ids (gtet_mpi_options), with the
+ * fallback to 64 bits when GTET_MPI_IDS32_LIMIT says the counts do not fit, and a width that
+ * is not 32 or 64 or differs between the ranks refused on every rank; opts.input_done is called exactly once on each rank (the
  * points poisoned with NaN and freed there: nothing reads them after); a NaN on the last rank
  * and overlapping index ranges give the same error on every rank; mx_pages_move (the output's
  * room lent the written pages of dead blocks, NOTES.md E221) keeps the pages already written at
  * the target, leaves both blocks mapped and writable, and the allocator sound. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -93,6 +96,75 @@ static void test_pages_move(void)
     }
 }
 
+/* the result r (either width) against the single-process mesh ref of the whole set: the input
+ * map of this rank's points [a, b), the counts, gtet_check_mpi, and on rank 0 the gathered tets
+ * (the same set) and every neighbour (the same tet across the same facet) */
+static void compare(const gtet_mpi_result *r, const gtet_mesh *ref, size_t a, size_t b)
+{
+    const uint32_t *map = gtet_mesh_input_map(ref);
+    for (size_t i = a; i < b; i++) CHECK(r->input_map[i - a] == map[i], "input map of %zu", i);
+    CHECK(r->num_vertices == gtet_mesh_num_vertices(ref), "vertices");
+    CHECK(r->num_tets_global == gtet_mesh_num_tets(ref), "tets %llu vs %zu",
+          (unsigned long long)r->num_tets_global, gtet_mesh_num_tets(ref));
+    gtet_check_report rep;
+    CHECK(gtet_check_mpi(MPI_COMM_WORLD, r, &rep) == GTET_OK, "check (%d bits): %s", r->id_bits,
+          rep.message);
+    /* this rank's rows as 64-bit ids (GTET_MPI_NO_TET32 as GTET_MPI_NO_TET) */
+    uint64_t *lt = malloc((4 * r->num_tets + 1) * sizeof *lt), *ln = malloc((4 * r->num_tets + 1) * sizeof *ln);
+    for (size_t i = 0; i < 4 * r->num_tets; i++) {
+        if (r->id_bits == 32) {
+            lt[i] = r->tets32[i];
+            ln[i] = r->neighbors32[i] == GTET_MPI_NO_TET32 ? GTET_MPI_NO_TET : r->neighbors32[i];
+        } else {
+            lt[i] = r->tets[i];
+            ln[i] = r->neighbors[i];
+        }
+    }
+    /* gather tets and neighbours (global id order) to rank 0 */
+    uint64_t T = r->num_tets_global;
+    uint64_t *gt = malloc((4 * T + 1) * sizeof *gt), *gn = malloc((4 * T + 1) * sizeof *gn);
+    int *cnt = malloc(2 * (size_t)size * sizeof *cnt), mine = (int)(4 * r->num_tets);
+    MPI_Allgather(&mine, 1, MPI_INT, cnt, 1, MPI_INT, MPI_COMM_WORLD);
+    for (int q = 0, at = 0; q < size; q++) { cnt[size + q] = at; at += cnt[q]; }
+    MPI_Allgatherv(lt, mine, MPI_UINT64_T, gt, cnt, cnt + size, MPI_UINT64_T, MPI_COMM_WORLD);
+    MPI_Allgatherv(ln, mine, MPI_UINT64_T, gn, cnt, cnt + size, MPI_UINT64_T, MPI_COMM_WORLD);
+    if (rank == 0) {
+        size_t nt = gtet_mesh_num_tets(ref);
+        const uint32_t *rt = gtet_mesh_tets(ref), *rn = gtet_mesh_neighbors(ref);
+        uint64_t (*rk)[5] = malloc(nt * sizeof *rk), (*dk)[5] = malloc(T * sizeof *dk);
+        for (size_t t = 0; t < nt; t++) { for (int k = 0; k < 4; k++) rk[t][k] = rt[4 * t + k]; sort4(rk[t]); rk[t][4] = t; }
+        for (uint64_t t = 0; t < T; t++) { for (int k = 0; k < 4; k++) dk[t][k] = gt[4 * t + k]; sort4(dk[t]); dk[t][4] = t; }
+        qsort(rk, nt, sizeof *rk, cmp4);
+        int same = T == nt;
+        for (size_t t = 0; same && t < nt; t++) same = !cmp4(rk[t], dk[0]) || 1;
+        /* set equality */
+        uint64_t (*ds)[5] = malloc(T * sizeof *ds);
+        memcpy(ds, dk, T * sizeof *ds);
+        qsort(ds, T, sizeof *ds, cmp4);
+        for (size_t t = 0; same && t < nt; t++) same = !cmp4(rk[t], ds[t]);
+        CHECK(same, "the tets differ from the single-process mesh");
+        /* neighbours: across the facet opposite vertex v, the same tet as in the reference */
+        for (uint64_t t = 0; same && t < T; t++) {
+            uint64_t *f = bsearch(dk[t], rk, nt, sizeof *rk, cmp4);
+            size_t rt_i = (size_t)f[4];
+            for (int k = 0; k < 4; k++) {
+                uint64_t v = gt[4 * t + k], g = gn[4 * t + k];
+                int rf = 0;
+                while (rt[4 * rt_i + rf] != v) rf++;
+                uint32_t rnb = rn[4 * rt_i + rf];
+                if (rnb == GTET_NO_TET) { CHECK(g == GTET_MPI_NO_TET, "tet %llu: hull facet has a neighbour", (unsigned long long)t); continue; }
+                uint64_t want[4];
+                for (int j = 0; j < 4; j++) want[j] = rt[4 * (size_t)rnb + j];
+                sort4(want);
+                CHECK(g != GTET_MPI_NO_TET && g < T && !cmp4(dk[g], want), "tet %llu facet %d: wrong neighbour", (unsigned long long)t, k);
+            }
+        }
+        free(rk); free(dk); free(ds);
+        printf("api: %d ranks, %d-bit ids, %llu tets identical, neighbours identical, check ok\n", size, r->id_bits, (unsigned long long)T);
+    }
+    free(gt); free(gn); free(cnt); free(lt); free(ln);
+}
+
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
@@ -132,57 +204,44 @@ int main(int argc, char **argv)
     free(in.p);
     o.input_done = NULL;
     if (s == GTET_OK) {
-        const uint32_t *map = gtet_mesh_input_map(ref);
-        for (size_t i = a; i < b; i++) CHECK(r.input_map[i - a] == map[i], "input map of %zu", i);
-        CHECK(r.num_vertices == gtet_mesh_num_vertices(ref), "vertices");
-        CHECK(r.num_tets_global == gtet_mesh_num_tets(ref), "tets %llu vs %zu",
-              (unsigned long long)r.num_tets_global, gtet_mesh_num_tets(ref));
-        gtet_check_report rep;
-        CHECK(gtet_check_mpi(MPI_COMM_WORLD, &r, &rep) == GTET_OK, "check: %s", rep.message);
-        /* gather tets and neighbours (global id order) to rank 0 */
-        uint64_t T = r.num_tets_global;
-        uint64_t *gt = malloc((4 * T + 1) * sizeof *gt), *gn = malloc((4 * T + 1) * sizeof *gn);
-        int *cnt = malloc(2 * (size_t)size * sizeof *cnt), mine = (int)(4 * r.num_tets);
-        MPI_Allgather(&mine, 1, MPI_INT, cnt, 1, MPI_INT, MPI_COMM_WORLD);
-        for (int q = 0, at = 0; q < size; q++) { cnt[size + q] = at; at += cnt[q]; }
-        MPI_Allgatherv(r.tets, mine, MPI_UINT64_T, gt, cnt, cnt + size, MPI_UINT64_T, MPI_COMM_WORLD);
-        MPI_Allgatherv(r.neighbors, mine, MPI_UINT64_T, gn, cnt, cnt + size, MPI_UINT64_T, MPI_COMM_WORLD);
-        if (rank == 0) {
-            size_t nt = gtet_mesh_num_tets(ref);
-            const uint32_t *rt = gtet_mesh_tets(ref), *rn = gtet_mesh_neighbors(ref);
-            uint64_t (*rk)[5] = malloc(nt * sizeof *rk), (*dk)[5] = malloc(T * sizeof *dk);
-            for (size_t t = 0; t < nt; t++) { for (int k = 0; k < 4; k++) rk[t][k] = rt[4 * t + k]; sort4(rk[t]); rk[t][4] = t; }
-            for (uint64_t t = 0; t < T; t++) { for (int k = 0; k < 4; k++) dk[t][k] = gt[4 * t + k]; sort4(dk[t]); dk[t][4] = t; }
-            qsort(rk, nt, sizeof *rk, cmp4);
-            int same = T == nt;
-            for (size_t t = 0; same && t < nt; t++) same = !cmp4(rk[t], dk[0]) || 1;
-            /* set equality */
-            uint64_t (*ds)[5] = malloc(T * sizeof *ds);
-            memcpy(ds, dk, T * sizeof *ds);
-            qsort(ds, T, sizeof *ds, cmp4);
-            for (size_t t = 0; same && t < nt; t++) same = !cmp4(rk[t], ds[t]);
-            CHECK(same, "the tets differ from the single-process mesh");
-            /* neighbours: across the facet opposite vertex v, the same tet as in the reference */
-            for (uint64_t t = 0; same && t < T; t++) {
-                uint64_t *f = bsearch(dk[t], rk, nt, sizeof *rk, cmp4);
-                size_t rt_i = (size_t)f[4];
-                for (int k = 0; k < 4; k++) {
-                    uint64_t v = gt[4 * t + k], g = gn[4 * t + k];
-                    int rf = 0;
-                    while (rt[4 * rt_i + rf] != v) rf++;
-                    uint32_t rnb = rn[4 * rt_i + rf];
-                    if (rnb == GTET_NO_TET) { CHECK(g == GTET_MPI_NO_TET, "tet %llu: hull facet has a neighbour", (unsigned long long)t); continue; }
-                    uint64_t want[4];
-                    for (int j = 0; j < 4; j++) want[j] = rt[4 * (size_t)rnb + j];
-                    sort4(want);
-                    CHECK(g != GTET_MPI_NO_TET && g < T && !cmp4(dk[g], want), "tet %llu facet %d: wrong neighbour", (unsigned long long)t, k);
-                }
-            }
-            free(rk); free(dk); free(ds);
-            printf("api: %d ranks, %llu tets identical, neighbours identical, check ok\n", size, (unsigned long long)T);
-        }
-        free(gt); free(gn); free(cnt);
+        CHECK(r.id_bits == 64 && r.tets && !r.tets32, "the default result: id_bits %d", r.id_bits);
+        compare(&r, ref, a, b);
         gtet_mpi_result_free(&r);
+    }
+    /* 32-bit ids asked for: given (the counts fit), the same mesh; then the fallback to 64 bits
+     * (GTET_MPI_IDS32_LIMIT below the tet count; at the vertex count only the tets do not fit),
+     * and the limit at the tet count (both fit, the boundary) */
+    size_t nv = gtet_mesh_num_vertices(ref), ntr = gtet_mesh_num_tets(ref);
+    struct { size_t limit; int want; } w[] = {{0, 32}, {nv, 64}, {ntr - 1, 64}, {ntr, 32}, {100, 64}};
+    for (size_t k = 0; k < sizeof w / sizeof w[0]; k++) {
+        char lim[32];
+        snprintf(lim, sizeof lim, "%zu", w[k].limit);
+        if (w[k].limit) setenv("GTET_MPI_IDS32_LIMIT", lim, 1);
+        else unsetenv("GTET_MPI_IDS32_LIMIT");
+        gtet_mpi_options mo;
+        gtet_mpi_options_init(&mo);
+        CHECK(mo.id_bits == 64, "gtet_mpi_options_init: id_bits %d", mo.id_bits);
+        mo.id_bits = 32;
+        s = gtet_triangulate_mpi_opt(MPI_COMM_WORLD, all + 3 * a, b - a, a, &o, &mo, &r);
+        CHECK(s == GTET_OK, "32 bits, limit %s: status %d: %s", lim, (int)s, err.message);
+        if (s != GTET_OK) continue;
+        CHECK(r.id_bits == w[k].want, "32 bits asked, limit %s: id_bits %d, want %d", lim,
+              r.id_bits, w[k].want);
+        CHECK(r.id_bits == 32 ? r.tets32 && r.neighbors32 && !r.tets && !r.neighbors
+                              : r.tets && r.neighbors && !r.tets32 && !r.neighbors32,
+              "limit %s: the arrays of the other width", lim);
+        compare(&r, ref, a, b);
+        gtet_mpi_result_free(&r);
+    }
+    unsetenv("GTET_MPI_IDS32_LIMIT");
+    /* a width that is not 32 or 64, and widths that differ between the ranks: refused on every
+     * rank */
+    for (int k = 0; k < (size > 1 ? 2 : 1); k++) {
+        gtet_mpi_options mo;
+        gtet_mpi_options_init(&mo);
+        mo.id_bits = k == 0 ? 16 : rank == 0 ? 32 : 64;
+        s = gtet_triangulate_mpi_opt(MPI_COMM_WORLD, all + 3 * a, b - a, a, &o, &mo, &r);
+        CHECK(s == GTET_ERR_ARGUMENT, "id_bits %d: status %d", mo.id_bits, (int)s);
     }
     /* a NaN on the last rank: GTET_ERR_NONFINITE everywhere with its global index */
     double *mine_pts = malloc((3 * (b - a) + 3) * sizeof *mine_pts);
