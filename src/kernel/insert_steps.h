@@ -313,6 +313,11 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
     const uint32_t *const tn = m->tn;
     const double *const V = m->v;
     const double seps = m->ps.is_seps;
+    /* and the ownership's (a call the filter's rest makes could change them, for the
+     * compiler, which then read them at every test) */
+    const uint8_t *const col = c->colour;
+    const uint8_t mine = c->mine;
+    const int own4 = c->own_min == 4;
     for (size_t i = 0; i < ncav; i++) {
         const uint32_t t = c->cav[i];
         /* (the last one again near the end of the list: a branch there was mispredicted
@@ -354,21 +359,23 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
             uint32_t *k = &kept[u & (KM_KEPT_CACHE - 1)];
             const uint32_t in = *k != u ? km_conflict_bit(c, tv, V, seps, local_first, u, p) : 0u;
             if (par) {
-                int own;  /* km_owned(c, u), as the comment above says */
-                if (__builtin_expect(c->own_min == 4, 1)) {
+                unsigned own;  /* km_owned(c, u) != 0, as the comment above says */
+                if (__builtin_expect(own4, 1)) {
                     const uint32_t apex = tv[h];
-                    own = (apex == KM_GHOST) | (c->colour[apex == KM_GHOST ? 0 : apex] == c->mine);
+                    const unsigned inf = apex == KM_GHOST;
+                    own = inf | (col[inf ? 0 : apex] == mine);
                 } else {
-                    own = km_owned_bits(c, u);
+                    const int o = km_owned_bits(c, u);
+                    own = o != 0;
+                    foreign |= in & (o == 2);
                 }
-                if (__builtin_expect(own != 0, 1)) {
+                if (__builtin_expect(own, 1)) {
                     tv[4 * (size_t)u] |= in << 31;  /* ours: nobody else's to read (C3) */
                 } else if (in) {                    /* in conflict and not ours: defer */
                     rollback(c, ncav);
                     *deferred = 1;
                     return GTET_OK;
                 }
-                foreign |= in & (own == 2);
             } else {
                 tv[4 * (size_t)u] |= in << 31;
             }
