@@ -60,17 +60,7 @@ static __attribute__((noinline)) unsigned km_conflict_rest(kctx *c, const pred_i
                                                            const double *d, const double *p)
 {
     ++c->static_misses;
-    if (local_first) {
-        const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
-        const double M = pred_hmax4_(_mm256_max_pd(
-            _mm256_max_pd(_mm256_and_pd(L->X, mag), _mm256_and_pd(L->Y, mag)),
-            _mm256_and_pd(L->Z, mag)));
-        if (M == M && M < PRED_IS_HI) {
-            const double w = pred_pow2_above_(M);
-            c->level.w = w;
-            c->level.sw = pred_min_(pred_insphere_static_eps(w, w, w), seps);
-        }
-    }
+    if (local_first) pred_insphere_level_move_(&c->level, pred_insphere_lane_max_(L), seps);
     double minors[PRED_IS_NMINORS];
     const int s = pred_insphere_packed4_rest_(L, det, seps, minors);
     if (s != 0) {
@@ -102,16 +92,8 @@ __attribute__((always_inline)) static inline unsigned km_conflict_bit(kctx *c, c
         const double *cc = V + 3 * (size_t)v[2], *d = V + 3 * (size_t)v[3];
         pred_is_lanes4_ L;
         const double det = pred_insphere_lanes4_(a, b, cc, d, p, &L);
-        double thr = seps;
-        if (local_first) {
-            const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
-            const __m256d mx = _mm256_max_pd(
-                _mm256_max_pd(_mm256_and_pd(L.X, mag), _mm256_and_pd(L.Y, mag)),
-                _mm256_and_pd(L.Z, mag));
-            const __m256d w = _mm256_set1_pd(c->level.w);
-            const int inside = _mm256_movemask_pd(_mm256_cmp_pd(mx, w, _CMP_LT_OQ)) == 0xF;
-            thr = inside ? c->level.sw : seps;
-        }
+        __m256d m;
+        const double thr = local_first ? pred_insphere_level_bound_(&L, &c->level, seps, &m) : seps;
         if (__builtin_expect(__builtin_fabs(det) > thr, 1)) {
             c->cnt.insphere_calls++;
             return det > 0;

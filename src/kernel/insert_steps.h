@@ -369,6 +369,7 @@ KM_STEP gtet_status dig(kctx *c, uint32_t pid, const double *p, uint32_t t0, siz
                     own = o != 0;
                     foreign |= in & (o == 2);
                 }
+                GTET_DEBUG_ASSERT(own == (km_owned(c, u) != 0));  /* the shortcut is km_owned */
                 if (__builtin_expect(own, 1)) {
                     tv[4 * (size_t)u] |= in << 31;  /* ours: nobody else's to read (C3) */
                 } else if (in) {                    /* in conflict and not ours: defer */

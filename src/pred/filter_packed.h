@@ -367,6 +367,35 @@ static inline double pred_pow2_above_(double m)
  * filter's; it counts a miss and moves the level to the power of two above its largest
  * coordinate, so the next tuples of the cavity are judged at their own scale. */
 #if defined(__AVX2__)
+/* The level filter's two steps, shared with the kernel's form of it (kernel/conflict.h
+ * km_conflict_bit): the lanes' |coordinate| maxima and the bound they select (the level's
+ * when all lie below lv->w, else seps); after a miss, the level moved to the power of two
+ * above their largest. */
+static inline __m256d pred_insphere_lane_max_(const pred_is_lanes4_ *L)
+{
+    const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+    return _mm256_max_pd(_mm256_max_pd(_mm256_and_pd(L->X, mag), _mm256_and_pd(L->Y, mag)),
+                         _mm256_and_pd(L->Z, mag));
+}
+
+static inline double pred_insphere_level_bound_(const pred_is_lanes4_ *L, const pred_is_level *lv,
+                                                double seps, __m256d *m)
+{
+    *m = pred_insphere_lane_max_(L);
+    const int inside =
+        _mm256_movemask_pd(_mm256_cmp_pd(*m, _mm256_set1_pd(lv->w), _CMP_LT_OQ)) == 0xF;
+    return inside ? lv->sw : seps;
+}
+
+static inline void pred_insphere_level_move_(pred_is_level *lv, __m256d m, double seps)
+{
+    const double M = pred_hmax4_(m);
+    if (M == M && M < PRED_IS_HI) {
+        lv->w = pred_pow2_above_(M);
+        lv->sw = pred_min_(pred_insphere_static_eps(lv->w, lv->w, lv->w), seps);
+    }
+}
+
 static inline int pred_insphere_filter_packed_lv(const double *a, const double *b,
                                                  const double *c, const double *d,
                                                  const double *e, double seps,
@@ -375,20 +404,12 @@ static inline int pred_insphere_filter_packed_lv(const double *a, const double *
 {
     pred_is_lanes4_ L;
     const double det = pred_insphere_lanes4_(a, b, c, d, e, &L);
-    const __m256d mag = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
-    const __m256d m = _mm256_max_pd(_mm256_max_pd(_mm256_and_pd(L.X, mag), _mm256_and_pd(L.Y, mag)),
-                                    _mm256_and_pd(L.Z, mag));
-    const int inside =
-        _mm256_movemask_pd(_mm256_cmp_pd(m, _mm256_set1_pd(lv->w), _CMP_LT_OQ)) == 0xF;
-    const double t = inside ? lv->sw : seps;
+    __m256d m;
+    const double t = pred_insphere_level_bound_(&L, lv, seps, &m);
     if (det > t) return 1;
     if (det < -t) return -1;
     ++*static_misses;
-    const double M = pred_hmax4_(m);
-    if (M == M && M < PRED_IS_HI) {
-        lv->w = pred_pow2_above_(M);
-        lv->sw = pred_min_(pred_insphere_static_eps(lv->w, lv->w, lv->w), seps);
-    }
+    pred_insphere_level_move_(lv, m, seps);
     return pred_insphere_packed4_rest_(&L, det, seps, minors);
 }
 #endif
