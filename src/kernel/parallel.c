@@ -147,13 +147,39 @@ static void serial_start(kctx *c)
         }
 }
 
-static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np)
+static inline double dist2(const double *a, const double *b)
+{
+    const double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+    return x * x + y * y + z * z;
+}
+
+/* Start p's walk at t when t's first vertex is nearer p than c->last's (both live tets: a
+ * hint's slot may hold another tet by now, and any live tet is a start). */
+static inline void nearer_start(kctx *c, uint32_t p, uint32_t t)
+{
+    const kmesh *m = c->m;
+    if (dist2(km_pt(m, p), km_pt(m, m->tv[4 * (size_t)t] & ~KM_DEAD)) <
+        dist2(km_pt(m, p), km_pt(m, m->tv[4 * (size_t)c->last] & ~KM_DEAD)))
+        c->last = t;
+}
+
+/* The rest of a round on one thread.  After a parallel pass (use_hints: the pass wrote a hint
+ * for every point it left) a walk may start from the tet the point's last try began its cavity
+ * at (E177): the points left are scattered along the old colour boundaries, and the walk from
+ * the previous point's tet is about twice as long there (NOTES.md E254).  Without colours
+ * every live tet is a start. */
+static gtet_status insert_serial(kpar *P, const uint32_t *pts, size_t np, int use_hints)
 {
     kctx *c = &P->ctx[0];
+    const kmesh *m = c->m;
     c->colour = NULL;
     serial_start(c);
     for (size_t i = 0; i < np; i++) {
         int deferred;
+        if (use_hints) {
+            const uint32_t t = P->hint[pts[i]];
+            if (t < m->nt && !km_dead(m, t)) nearer_start(c, pts[i], t);
+        }
         gtet_status s = km_insert(c, pts[i], &deferred);
         if (s != GTET_OK) return s;
         if (deferred) return GTET_ERR_INTERNAL;  /* serial insertion never defers */
@@ -180,11 +206,6 @@ static void pass_error(int *status, gtet_status s)
 /* Thread c's slice pts[b..e) of a pass, inside the parallel region: its deferred points are
  * moved to pts[b..b+*nd) in order.  A thread whose insertions almost all fail stops trying
  * (GIVE_UP); so does every thread once one has failed (the shared *status, read atomically). */
-static inline double dist2(const double *a, const double *b)
-{
-    const double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
-    return x * x + y * y + z * z;
-}
 
 static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_start,
                          const kpar_restarts *R, uint32_t *hint, int use_hints, int *status,
@@ -239,10 +260,7 @@ static void insert_slice(kctx *c, uint32_t *pts, size_t b, size_t e, int have_st
              * may hold another tet by now; c->last is this thread's too: a start, a restart
              * or a tet its insertions made) */
             const uint32_t t = hint[pts[i]];
-            if (t != UINT32_MAX && !km_dead(m, t) &&
-                dist2(km_pt(m, pts[i]), km_pt(m, m->tv[4 * (size_t)t] & ~KM_DEAD)) <
-                    dist2(km_pt(m, pts[i]), km_pt(m, m->tv[4 * (size_t)c->last] & ~KM_DEAD)))
-                c->last = t;
+            if (t != UINT32_MAX && !km_dead(m, t)) nearer_start(c, pts[i], t);
         }
         c->defer_hint = UINT32_MAX;
         int tried_now = 0;
@@ -341,7 +359,8 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
         memmove(pts + n, pts + begin[k], ndef[k] * sizeof *pts);
         n += ndef[k];
         *attempts += ntried[k];
-        if (!again) {  /* a rest too short to cut: deferred, untried */
+        if (!again) {  /* a rest too short to cut: deferred, untried, no hint */
+            for (size_t i = stop_at[k]; P->hint && i < end[k]; i++) P->hint[pts[i]] = UINT32_MAX;
             memmove(pts + n, pts + stop_at[k], (end[k] - stop_at[k]) * sizeof *pts);
             n += end[k] - stop_at[k];
         }
@@ -395,7 +414,7 @@ gtet_status kpar_round(kpar *P, uint32_t *pts, size_t np, gtet_round_stats *rs)
             if (pass == 0) rs->alpha_first = 1.0;
             rs->tried += np;
             rs->inserted += np;
-            return insert_serial(P, pts, np);
+            return insert_serial(P, pts, np, pass > 0 && P->hint != NULL);
         }
         /* room for this pass: about 7 new tets per point, plus a block per thread */
         gtet_status s = km_reserve(m, m->nt + 8 * np + (size_t)nth * 2 * KM_SLOT_BLOCK);

@@ -31,7 +31,9 @@ typedef struct kpar {
     uint64_t *pk, *tk;  /* pending points' keys and radix scratch */
     uint32_t *ti;
     size_t cap_pending;
-    /* progress: done / total points, reported from the calling thread */
+    /* progress: done / total points, reported from the calling thread; done is also the number
+     * of vertices in the mesh (the first tet's four and every point inserted), which the first
+     * pass's crossing sample is sized by (partition.c) */
     void (*progress)(void *user, double fraction);
     void *progress_user;
     size_t done, total;

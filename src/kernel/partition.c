@@ -66,16 +66,31 @@ static int pass_slabs(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth, 
  * they cross fewer than 3/4 of those the Moore slices just cut in P->colour cross (kpar_crossing,
  * kpar_first_axis in slabs.c, NOTES.md E70); else -1: keep the Moore slices (E12, E21).  The
  * candidates' cuts are taken on every (np / SLAB_SAMPLE + 1)-th pending point, in the scratch
- * P->ti, P->tk (free after the Moore cut); only every CROSS_STRIDE-th tet slot is looked at.
+ * P->ti, P->tk (free after the Moore cut); only every cross_stride-th tet slot is looked at,
+ * about CROSS_SAMPLE of them (all of a small mesh's every CROSS_STRIDE_MIN-th).
  * Deterministic, like everything the partition reads.  *chosen: the chosen axis's cuts (the
  * sample's quantiles: within ~1/256 of the median, no selection over all np points). */
 #define SLAB_SAMPLE 65536
-#define CROSS_STRIDE 8
+#define CROSS_SAMPLE 32768
+#define CROSS_STRIDE_MIN 8
 /* Which tets a stride samples must not depend on the threads' timing: a parallel pass's fresh
  * slots come in blocks of KM_SLOT_BLOCK claimed from the pass's first free slot in whatever
  * order the threads get there, so a tet's slot moves by whole blocks between runs, and keeps
- * its residue modulo the stride (free lists are per thread and filled in its own order). */
-_Static_assert(KM_SLOT_BLOCK % CROSS_STRIDE == 0, "the crossing sample must not depend on timing");
+ * its residue modulo the stride (free lists are per thread and filled in its own order).  So
+ * the stride is a power of two from CROSS_STRIDE_MIN to KM_SLOT_BLOCK, which divides the
+ * block, chosen from the vertices the mesh holds at the round's start (P->done: the earlier
+ * rounds are whole), not from the slots in use, which the block claims make depend on timing.
+ * (A fixed stride of 8 read ~550k tets in the 4M run's last round, scattered reads of their
+ * vertices: 1 % of the run at `-t 2`, NOTES.md E255.) */
+_Static_assert((KM_SLOT_BLOCK & (KM_SLOT_BLOCK - 1)) == 0 && KM_SLOT_BLOCK >= CROSS_STRIDE_MIN,
+               "the crossing stride must divide a block");
+static size_t cross_stride(size_t vertices)
+{
+    const size_t want = vertices / 2 * 13 / CROSS_SAMPLE;  /* about 6.5 tets a vertex */
+    size_t s = CROSS_STRIDE_MIN;
+    while (2 * s <= want && 2 * s <= KM_SLOT_BLOCK) s *= 2;
+    return s;
+}
 static int first_pass_axis(kpar *P, const uint32_t *pts, size_t np, int nth,
                            kpar_slab_cuts *chosen)
 {
@@ -87,7 +102,7 @@ static int first_pass_axis(kpar *P, const uint32_t *pts, size_t np, int nth,
         if (!kpar_slab_cuts_on(P->m->v, P->ti, ns, nth, d, (double *)(void *)P->tk, &s[d]))
             return -1;
     size_t cross[4];
-    kpar_crossing(P->m->tv, P->m->nt, CROSS_STRIDE, P->m->v, P->colour, s, nth, cross);
+    kpar_crossing(P->m->tv, P->m->nt, cross_stride(P->done), P->m->v, P->colour, s, nth, cross);
     const int axis = kpar_first_axis(cross);
     if (axis >= 0) *chosen = s[axis];
     return axis;
