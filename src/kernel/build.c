@@ -279,12 +279,8 @@ static gtet_status kbuild_finish(kbuild *b)
     gtet_status s = res->vertices ? GTET_OK : restore_vertices(b);
     if (s == GTET_OK)
         s = km_finalize(&b->m, &res->tets, &res->neighbors, &res->n_tets, &res->n_hull_facets,
-                        threads);
+                        threads, order);  /* the tets' vertices as mesh ids */
     if (s != GTET_OK) return s;
-    uint32_t *tv = res->tets;
-    const size_t n4 = 4 * res->n_tets;
-#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1 && n4 > 262144)
-    for (size_t i = 0; i < n4; i++) tv[i] = order[tv[i]];
     if (!b->logs) return GTET_OK;
     uint64_t sos_calls = res->stats.pred.sos_calls;
     for (int k = 0; k < threads; k++) sos_calls += b->ctx[k].cnt.sos_calls;

@@ -7,7 +7,10 @@
  * filling holes, not by renumbering them all:
  *   1. (parallel, T chunks of the slots) count the live finite tets of each chunk, list the
  *      chunk's other slots (deleted or ghost: the holes), and mark the finite facet of every
- *      live ghost on its finite neighbour: that neighbour's handle becomes KM_HULL;
+ *      live ghost on its finite neighbour: that neighbour's handle becomes KM_HULL; with a
+ *      map, write each live finite tet's vertices as the caller's ids (the pass reads those
+ *      lines anyway: a separate pass over the tets took as long as the compaction, NOTES.md
+ *      E256; a mapped id is below 2^31, so it never reads as a dead mark or as KM_GHOST);
  *   2. (serial) L = the number of live finite tets; the holes below L are paired, in order,
  *      with the live finite tets at or above L (there are as many of each); each such tet is
  *      copied into its hole and its four neighbours' back handles are pointed at the new slot
@@ -58,7 +61,7 @@ static void holes_push(fin_holes *h, uint32_t t)
 }
 
 gtet_status km_finalize(kmesh *m, uint32_t **tets, uint32_t **nbrs, size_t *ntets,
-                        size_t *nhull, int threads)
+                        size_t *nhull, int threads, const uint32_t *map)
 {
     const size_t nt = m->nt;
     int T = threads < 1 ? 1 : threads > FIN_MAX_THREADS ? FIN_MAX_THREADS : threads;
@@ -85,6 +88,8 @@ gtet_status km_finalize(kmesh *m, uint32_t **tets, uint32_t **nbrs, size_t *ntet
                 tn[tn[4 * t + 3]] = KM_HULL;  /* the finite tet's facet on the hull */
             } else {
                 live++;
+                if (map)
+                    for (int i = 0; i < 4; i++) tv[4 * t + i] = map[tv[4 * t + i]];
             }
         }
         live_in[k] = live;
