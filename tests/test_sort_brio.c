@@ -249,23 +249,39 @@ static void ref_sort_by_key(const double *p, uint32_t *ids, size_t m, const doub
     }
 }
 
-/* sort.h's refinement, literally: runs of more than 32 equal keys (ks) sorted on their own
- * box, recursively, to 32 levels; ks is consumed */
+/* sort.h's refinement, literally: runs of more than 32 equal keys (ks) sorted by the 21-bit
+ * keys on the set's box `all` (level 1, when the round's keys had fewer bits, kb < 21), then
+ * on their own box, recursively, to 32 levels in all; ks is consumed */
 static void ref_refine_runs(const double *p, uint32_t *ids, const uint64_t *ks, size_t m,
-                            int depth, ref_item *it, uint64_t *key)
+                            int depth, const double all[6], int kb, ref_item *it, uint64_t *key)
 {
     for (size_t i = 0; i < m;) {
         size_t j = i + 1;
         while (j < m && ks[j] == ks[i])
             j++;
-        if (j - i > 32 && depth <= 32) {
+        int fine = 0;  /* sort.h: the fine keys' level when the run is wide enough */
+        if (j - i > 32 && depth == 1 && kb < 21) {
+            double rb[6];
+            sort_bbox(p, 4, ids + i, j - i, rb, 1);
+            for (int a = 0; a < 3; a++)
+                fine |= rb[a + 3] - rb[a] >= ldexp(1.0, sort_brio_bits(j - i) - 22) *
+                                                  (all[a + 3] - all[a]) &&
+                        rb[a + 3] > rb[a];
+        }
+        if (fine) {
+            uint64_t *sub = malloc((j - i) * sizeof *sub);
+            TEST_REQUIRE(sub, "out of memory");
+            ref_sort_by_key(p, ids + i, j - i, all, 21, it, key, sub);
+            ref_refine_runs(p, ids + i, sub, j - i, depth + 1, all, kb, it, key);
+            free(sub);
+        } else if (j - i > 32 && depth <= 32) {
             double box[6];
             sort_bbox(p, 4, ids + i, j - i, box, 1);
             if (!(box[0] == box[3] && box[1] == box[4] && box[2] == box[5])) {
                 uint64_t *sub = malloc((j - i) * sizeof *sub);
                 TEST_REQUIRE(sub, "out of memory");
                 ref_sort_by_key(p, ids + i, j - i, box, sort_brio_bits(j - i), it, key, sub);
-                ref_refine_runs(p, ids + i, sub, j - i, depth + 1, it, key);
+                ref_refine_runs(p, ids + i, sub, j - i, depth + 1, all, kb, it, key);
                 free(sub);
             }
         }
@@ -305,7 +321,7 @@ static void reference_brio(const double *p, uint32_t *ids, size_t n, uint64_t se
     for (int k = r - 1; k >= 0; k--) {
         const size_t m = down[k] - lo;
         ref_sort_by_key(p, ids + lo, m, box, sort_brio_bits(n), it, key, ks);
-        ref_refine_runs(p, ids + lo, ks, m, 1, it, key);
+        ref_refine_runs(p, ids + lo, ks, m, 1, box, sort_brio_bits(n), it, key);
         lo = down[k];
     }
     free(it);
@@ -314,7 +330,8 @@ static void reference_brio(const double *p, uint32_t *ids, size_t n, uint64_t se
 }
 
 /* kind 0: uniform; 1: 27 positions (ties); 2: one point far away (the rest in one Moore cell:
- * refined); 3: nested clusters, 10^-4 and 10^-9 wide (refined on two and more levels) */
+ * refined); 3: nested clusters, 10^-4 and 10^-9 wide (refined on two and more levels); 4: half
+ * the points in a cube 10^-3 wide (refined by the fine keys, sort.h) */
 static void shape_points(double *p, size_t n, int kind)
 {
     if (kind == 1)
@@ -322,6 +339,10 @@ static void shape_points(double *p, size_t n, int kind)
             p[i] = floor(p[i] * 3);
     if (kind == 2 && n > 0)
         p[0] = p[1] = p[2] = 1e9;
+    if (kind == 4)
+        for (size_t i = 0; i < n; i += 2)
+            for (int a = 0; a < 3; a++)
+                p[4 * i + a] = 0.25 + p[4 * i + a] * 1e-3;
     if (kind == 3)
         for (size_t i = 0; i < n; i++) {
             const double s = i % 3 == 0 ? 1.0 : i % 3 == 1 ? 1e-4 : 1e-9;
@@ -334,7 +355,7 @@ static void test_brio_equals_the_literal_definition(void)
 {
     static const size_t sizes[] = {1, 7, 3000, 60000};
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
-        for (int kind = 0; kind < 4; kind++) {
+        for (int kind = 0; kind < 5; kind++) {
             const size_t n = sizes[s];
             double *p = random_points(n, 500 + s);
             uint32_t *ids = scrambled_ids(n, 600 + s), *ref = scrambled_ids(n, 600 + s);
@@ -412,7 +433,7 @@ static void test_brio_orders_a_set_with_a_far_point_as_finely_as_without(void)
 static void test_brio_keys_are_the_moore_keys_on_the_sets_box(void)
 {
     enum { N = 50000 };
-    for (int kind = 0; kind < 3; kind += 2) {
+    for (int kind = 0; kind < 5; kind += 2) {
         double *p = random_points(N, 910);
         uint32_t *ids = scrambled_ids(N, 911), *ref = scrambled_ids(N, 911);
         uint64_t *want = malloc(N * sizeof *want);
@@ -428,23 +449,40 @@ static void test_brio_keys_are_the_moore_keys_on_the_sets_box(void)
                      "sort_brio_keys failed");
         TEST_CHECK(rounds2 == rounds && memcmp(ids, ref, N * sizeof *ids) == 0,
                    "sort_brio_keys orders differently from sort_brio");
-        TEST_CHECK(bits == sort_brio_bits(N), "bits %d", bits);
-        TEST_CHECK(kind == 0 ? refined == 0 : refined >= N - 1 - N / 700,
+        TEST_CHECK(bits == 21, "bits %d", bits);
+        TEST_CHECK(kind == 0   ? refined == 0
+                   : kind == 2 ? refined >= N - 1 - N / 700
+                               : refined >= N / 2 - N / 100 && refined <= N / 2,
                    "kind %d: %zu points refined", kind, refined);
-        /* uniform: about 1/512 point per cell; a far point: the rest of each round in one */
-        TEST_CHECK(kind == 0 ? crowd > 0 && crowd < 0.01 : crowd > 0.99, "kind %d: crowd %g",
+        /* uniform: about 1/512 point per cell; a far point: the rest of each round in one
+         * (and in a few fine cells: not refined by them); the cluster: in fine cells of a few
+         * points each */
+        TEST_CHECK(kind == 2 ? crowd > 0.99 : crowd > 0 && crowd < 0.01, "kind %d: crowd %g",
                    kind, crowd);
+        /* a point of a refined run (more than 32 of a round in one cell of sort_brio_bits(N)
+         * bits): its 21-bit key; any other: its key with those bits shifted up to 21 bits */
         double box[6];
         sort_bbox(p, 4, ids, N, box, 1);
-        sort_moore_keys_ids(p, 4, ids, N, box, bits, want, 1);
+        const int b = sort_brio_bits(N);
+        uint64_t *fine = malloc(N * sizeof *fine);
+        TEST_REQUIRE(fine, "out of memory");
+        sort_moore_keys_ids(p, 4, ids, N, box, b, want, 1);
+        sort_moore_keys_ids(p, 4, ids, N, box, 21, fine, 1);
         size_t bad = 0, down = 0;
         int r = 0;
-        for (size_t i = 0; i < N; i++) {
+        for (size_t i = 0; i < N;) {
             while (i >= end[r])
                 r++;
-            bad += keys[i] != ((uint64_t)r << (3 * bits) | want[i]);
-            down += i > 0 && keys[i] < keys[i - 1];
+            size_t j = i + 1;
+            while (j < end[r] && want[j] == want[i])
+                j++;
+            for (size_t u = i; u < j; u++) {
+                bad += keys[u] != (j - i > 32 && kind == 4 ? fine[u] : want[u] << (3 * (21 - b)));
+                down += u > (r ? end[r - 1] : 0) && keys[u] < keys[u - 1];
+            }
+            i = j;
         }
+        free(fine);
         TEST_CHECK(bad == 0 && down == 0, "kind %d: %zu keys differ, %zu decrease", kind, bad,
                    down);
         free(keys);

@@ -154,10 +154,11 @@ static gtet_status prepare(run *r, gtet_mesh **out)
     return s;
 }
 
-/* The BRIO order; with threads, its Moore keys also colour the vertices (kpar_init), unless
- * one key holds more than a quarter of a slice of some round (a point far away, heavy tails):
- * such keys cannot cut the round evenly, and the kernel keys the tight box with 21 bits
- * instead (NOTES.md E7). */
+/* The BRIO order; with threads, its Moore keys (21 bits per axis inside the cells it refined,
+ * NOTES.md E257) also colour the vertices (kpar_init), unless one key holds more than a quarter
+ * of a slice of some round (a point far away, a cluster below 2^-21 of the box): such keys
+ * cannot cut the round evenly, and the kernel keys the tight box with 21 bits instead
+ * (NOTES.md E7). */
 static gtet_status order_points(run *r)
 {
     const size_t nv = r->res->n_vertices;

@@ -2,8 +2,9 @@
  *
  * A pass: the pending points of the round get Moore keys (in a round's first pass and first
  * retry the BRIO's, on the box of all points, which the round's BRIO order already follows, so
- * nothing is computed or sorted -- or, when the BRIO had to refine crowded cells, 21-bit keys on
- * the tight box computed once per run; on an enlarged and shifted box in later passes, where
+ * nothing is computed or sorted (the BRIO refines a crowded cell by these keys, E257) -- or,
+ * when even those crowd one key, 21-bit keys on the tight box computed once per run; on an
+ * enlarged and shifted box in later passes, where
  * only the vertices of the mesh are re-keyed), are sorted by key and cut into one slice per
  * thread, never between equal keys (slices.c): at the coarsest Moore-cell boundary within 1/64
  * of a slice of equal count, in a round's first pass from the origin on the loop whose equal-count cuts are

@@ -152,8 +152,8 @@ void kpar_pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nt
         pk[i] = (keys[pts[i]] << sh) & KPAR_KEY_MASK;
         if (i > 0) unsorted |= ((keys[pts[i - 1]] << sh) & KPAR_KEY_MASK) > pk[i];
     }
-    /* unsorted only inside the BRIO's refined cells (a dense cluster, E7): sorted there only
-     * (NOTES.md E101) */
+    /* unsorted only with the kernel's own keys (the BRIO's crowded one key, E7), inside the
+     * cells the BRIO refined on their own boxes: sorted there only (NOTES.md E101) */
     if (unsorted) sort_radix_pairs_grouped(pk, pts, np, 3 * KEY_BITS, P->tk, P->ti, nth);
     uint64_t rel[256], bound0;
     kpar_slices(pk, pts, np, nth, pass == 0 ? 2 : pass == 1, pass == 1 ? &P->cuts : NULL, P->tk,

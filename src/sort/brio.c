@@ -22,7 +22,8 @@
  *      (key, id) pairs puts the rounds in order, each in Moore order;
  *   4. equal keys (points of one Moore cell) are then put in hash order: a run of equal keys
  *      is sorted by hash, which is the tie order the definition gives; a run longer than
- *      BRIO_REFINE_MIN is then refined (refine_run).
+ *      BRIO_REFINE_MIN is then refined: first by the 21-bit keys on the same box (the keys
+ *      continued, refine_global), then the runs still equal on their own boxes (refine_run).
  *
  * Why it is deterministic: the hash depends on (id, seed) only; thresholds, rounds, boxes
  * (exact min/max, -0.0 normalised) and keys depend on the data only; stable sorts have unique
@@ -45,6 +46,8 @@
 #define BRIO_REFINE_MIN 32   /* longer runs of equal keys are sorted on their own box */
 #define BRIO_CROWD_MIN 4096   /* rounds this large count for sort_brio_keys' crowd_out */
 #define BRIO_REFINE_DEPTH 32 /* levels of that (each shrinks the box by 2^5 or more per axis) */
+#define BRIO_FINE_BITS 21    /* the refinement's first level, and the keys handed out: the
+                                kernel's (slices.h KPAR_KEY_BITS) */
 
 int sort_brio_bits(size_t m)
 {
@@ -219,6 +222,63 @@ static void refine_run(const double *xyz, size_t stride, uint32_t *ids, size_t n
     }
 }
 
+/* Whether the fine keys (BRIO_FINE_BITS bits per axis on the set's box `box`) order the run
+ * ids[0..n) about as finely as its own box would: its box spans at least 2^(b-1) fine cells
+ * on some axis, b = sort_brio_bits(n) the bits refine_run would take there.  Not so for the
+ * unit cube next to a point at 10^6 (2 fine cells an axis): there the fine keys would be
+ * computed and sorted for nothing, and the run is refined on its own box at once. */
+static int fine_keys_help(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
+                          const double box[6], int threads)
+{
+    double rb[6];
+    sort_bbox(xyz, stride, ids, n, rb, threads);
+    const double want = ldexp(1.0, sort_brio_bits(n) - 1 - BRIO_FINE_BITS);
+    for (int a = 0; a < 3; a++)  /* (exact min/max and IEEE operations: deterministic) */
+        if (rb[a + 3] - rb[a] >= want * (box[a + 3] - box[a]) && rb[a + 3] > rb[a])
+            return 1;
+    return 0;
+}
+
+/* The first level of a run's refinement (n > BRIO_REFINE_MIN points with equal keys on the
+ * set's box `box` with fewer than BRIO_FINE_BITS bits, fine_keys_help): stable sort by the
+ * Moore keys on the same box with BRIO_FINE_BITS bits, which continue the run's key (the
+ * prefix property, sort.h), then refine_run from depth 2 for every run of equal such keys
+ * longer than BRIO_REFINE_MIN, hash order for the shorter ones.  On return fine[i] is the fine key of the
+ * point now at ids[i] (fine[] does not decrease), and the result is the longest run of equal
+ * fine keys.  A dense cluster is thus in the order of the curve the kernel cuts its slices on
+ * (its keys are these, NOTES.md E257); refined on the run's own box at once, it followed
+ * another curve, and the kernel keyed every point again and sorted the cluster's points in
+ * each round's first pass.  tk, ti: scratch of n entries; a run of equal fine keys is its own
+ * scratch for the levels below, and gets its key back. */
+static size_t refine_global(const double *xyz, size_t stride, uint32_t *ids, size_t n,
+                            const double box[6], int kbits, uint64_t *fine, uint64_t *tk,
+                            uint32_t *ti, uint64_t salt, int threads)
+{
+    sort_moore_keys_ids(xyz, stride, ids, n, box, BRIO_FINE_BITS, fine, threads);
+    /* the bits above these are the run's key, the same for all */
+    sort_radix_pairs(fine, ids, n, 3 * (BRIO_FINE_BITS - kbits), tk, ti, threads);
+    size_t longest = 0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && fine[j] == fine[i])
+            j++;
+        if (j - i > longest)
+            longest = j - i;
+        if (j - i > 1) {
+            const uint64_t key = fine[i];
+            if (j - i > BRIO_REFINE_MIN)
+                refine_run(xyz, stride, ids + i, j - i, 2, fine + i, tk + i, ti + i, salt,
+                           threads);
+            else
+                hash_order(ids + i, j - i, salt, tk + i, fine + i, ti + i, threads);
+            for (size_t u = i; u < j; u++)
+                fine[u] = key;
+        }
+        i = j;
+    }
+    return longest;
+}
+
 gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t seed,
                       size_t first, double ratio, size_t round_end[64], int *num_rounds,
                       int threads)
@@ -228,35 +288,48 @@ gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n,
 }
 
 /* Step 4 of sort_brio_keys: runs of equal keys into hash order, the long ones refined
- * (keys[i..j) is scratch once the run is found, and gets the run's key back).  *refined: the
- * points in refined runs; *crowd: the largest share of a round (of at least BRIO_CROWD_MIN
- * points) that one key holds. */
+ * (refine_global; keys[i..j) is scratch once the run is found), and every key rewritten as a
+ * fine key (BRIO_FINE_BITS bits per axis, no round): a refined run's points get their own,
+ * the others their cell's key shifted up (the first fine key in the cell, by the prefix
+ * property), so the keys do not decrease within a round.  *refined: the points in refined
+ * runs; *crowd: the largest share of a round (of at least BRIO_CROWD_MIN points) that one
+ * fine key holds. */
 static void order_runs(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t *keys,
-                       uint64_t *tk, uint32_t *ti, int kbits, const size_t *end, uint64_t salt,
-                       int threads, size_t *refined_out, double *crowd_out)
+                       uint64_t *tk, uint32_t *ti, int kbits, const double box[6],
+                       const size_t *end, uint64_t salt, int threads, size_t *refined_out,
+                       double *crowd_out)
 {
     size_t refined = 0;
     double crowd = 0.0;
+    const int up = 3 * (BRIO_FINE_BITS - kbits);
+    const uint64_t cell = ((uint64_t)1 << (3 * kbits)) - 1;
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
         while (j < n && keys[j] == keys[i])
             j++;
         const int r = (int)(keys[i] >> (3 * kbits));
         const size_t rsize = end[r] - (r ? end[r - 1] : 0);
-        if (rsize >= BRIO_CROWD_MIN && (double)(j - i) / (double)rsize > crowd)
-            crowd = (double)(j - i) / (double)rsize;
-        if (j - i > 1) {
-            const uint64_t run_key = keys[i];
-            if (j - i > BRIO_REFINE_MIN) {  /* ends in hash order within its finer keys */
+        size_t same = j - i;  /* the longest run of equal fine keys */
+        const uint64_t fine = (keys[i] & cell) << up;
+        if (j - i > BRIO_REFINE_MIN && up > 0 &&
+            fine_keys_help(xyz, stride, ids + i, j - i, box, threads)) {
+            /* ends in hash order within its finer keys */
+            same = refine_global(xyz, stride, ids + i, j - i, box, kbits, keys + i, tk + i,
+                                 ti + i, salt, threads);
+            refined += j - i;
+        } else {
+            if (j - i > BRIO_REFINE_MIN) {
                 refine_run(xyz, stride, ids + i, j - i, 1, keys + i, tk + i, ti + i, salt,
                            threads);
                 refined += j - i;
-            } else {
+            } else if (j - i > 1) {
                 hash_order(ids + i, j - i, salt, tk + i, keys + i, ti + i, threads);
             }
             for (size_t u = i; u < j; u++)
-                keys[u] = run_key;
+                keys[u] = fine;
         }
+        if (rsize >= BRIO_CROWD_MIN && (double)same / (double)rsize > crowd)
+            crowd = (double)same / (double)rsize;
         i = j;
     }
     *refined_out = refined;
@@ -275,7 +348,7 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
     if (refined_out)
         *refined_out = 0;
     if (key_bits_out)
-        *key_bits_out = sort_brio_bits(n);
+        *key_bits_out = BRIO_FINE_BITS;
     if (!num_rounds)
         return GTET_ERR_ARGUMENT;
     *num_rounds = 0;
@@ -324,7 +397,8 @@ gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size
     /* 4. */
     size_t refined = 0;
     double crowd = 0.0;
-    order_runs(xyz, stride, ids, n, keys, tk, ti, kbits, end, salt, threads, &refined, &crowd);
+    order_runs(xyz, stride, ids, n, keys, tk, ti, kbits, box, end, salt, threads, &refined,
+               &crowd);
     if (refined_out)
         *refined_out = refined;
     if (crowd_out)

@@ -82,11 +82,16 @@ void sort_radix_pairs_grouped(uint64_t *keys, uint32_t *idx, size_t n, int key_b
  * then holds more than `first` points).  Round r = [round_end[r-1], round_end[r]) is stably
  * sorted by sort_moore_keys_ids with sort_bbox of all n points and sort_brio_bits(n) bits per
  * axis (equal keys thus stay in hash order).  Refinement: every maximal run of more than 32
- * consecutive points of a round with equal keys, unless its points all coincide, is stably
- * sorted by sort_moore_keys_ids on sort_bbox of the run's points with sort_brio_bits(run
- * length) bits, and so on for the runs of equal keys that this makes, to 32 levels.  (Without
- * it, one point far away puts every other point into one Moore cell, whose points would then
- * come in random order: NOTES.md E8.)
+ * consecutive points of a round with equal keys is stably sorted by sort_moore_keys_ids on
+ * the same box with 21 bits per axis (the fine keys), when sort_brio_bits(n) is below 21 and
+ * the run's sort_bbox is, on some axis, at least 2^(sort_brio_bits(run length) - 22) times as
+ * wide as the set's box and not flat; then every maximal run of more than 32 points with
+ * equal fine keys (or, without that level, the run itself), unless its points all coincide,
+ * is stably sorted by sort_moore_keys_ids on sort_bbox of the run's points with
+ * sort_brio_bits(run length) bits, and so on for the runs of equal keys that this makes, to 32
+ * levels in all.  (Without it, one point far away puts every other point into one Moore cell,
+ * whose points would then come in random order: NOTES.md E8.  The fine keys first: a dense
+ * cluster is then in the order of the keys the kernel cuts its slices on, E257.)
  * Memory: 21 bytes per point, freed on return.
  * Also: GTET_ERR_ARGUMENT when n > 0 and a pointer is NULL, first == 0, !(ratio > 1),
  * or n > 2^32.  n == 0 gives *num_rounds = 0. */
@@ -95,16 +100,18 @@ gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n,
                       int threads);
 
 /* sort_brio, and its keys.  When keys_out is not NULL and the result is GTET_OK,
- * *keys_out is a malloc'ed array of n keys (the caller frees it; NULL otherwise): with
- * b = *key_bits_out = sort_brio_bits(n), the low 3b bits of (*keys_out)[i] are the Moore key of
- * the point ids[i] (after sorting) on the box of all n points with b bits per axis, and the
- * bits above them its round number; so the keys do not decrease along the order.  The memory
- * is sort_brio's own key array (8 bytes per point), kept instead of freed.  When not NULL:
- * *refined_out is the number of points in runs that were refined -- 0 when every Moore cell of
- * the box held at most 32 points of a round, i.e. when the keys alone order the set finely;
- * *crowd_out is the largest share of a round's points that one key holds, over the rounds of at
- * least 4096 points (0 when there is none) -- how finely the keys can cut a round into
- * slices: a share above 1/k leaves one of k slices more than its part. */
+ * *keys_out is a malloc'ed array of n keys (the caller frees it; NULL otherwise), Moore keys on
+ * the box of all n points with *key_bits_out = 21 bits per axis: (*keys_out)[i] is the fine key
+ * of the point ids[i] (after sorting) when its run was refined by the fine keys, else its key
+ * with b = sort_brio_bits(n) bits shifted up by 3 (21 - b) bits (the first fine key of its
+ * cell, by the prefix property); so the keys do not decrease along each round, and two points
+ * of different cells compare as their cells do.  The memory is sort_brio's own key array (8 bytes per point),
+ * kept instead of freed.  When not NULL: *refined_out is the number of points in runs that
+ * were refined -- 0 when every Moore cell of the box held at most 32 points of a round, i.e.
+ * when the keys with b bits alone order the set finely; *crowd_out is the largest share of a
+ * round's points that one key of *keys_out holds, over the rounds of at least 4096 points (0
+ * when there is none) -- how finely the keys can cut a round into slices: a share above 1/k
+ * leaves one of k slices more than its part. */
 gtet_status sort_brio_keys(const double *xyz, size_t stride, uint32_t *ids, size_t n,
                            uint64_t seed, size_t first, double ratio, size_t round_end[64],
                            int *num_rounds, int threads, uint64_t **keys_out,
