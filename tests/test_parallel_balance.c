@@ -87,8 +87,8 @@ static void tets_with(const double *p, size_t n, int threads, uint32_t **out, si
 }
 
 /* The rebalancing of a round's first pass (src/kernel/parallel.c pass_parallel, NOTES.md
- * E221): when a thread has done its slice, the others leave their rests, which are cut
- * between neighbouring threads and recoloured.  Whether it happens depends on the threads'
+ * E186, E258): when a thread has done its slice, the others leave their rests, which are cut
+ * between neighbouring threads and recoloured (on Moore slices, or on slabs).  Whether it happens depends on the threads'
  * speeds, so the test hook kpar_test_stop_after makes thread 0 signal the stop after 3000
  * tries: every thread then leaves a rest, every colour boundary moves (the loop's origin
  * too), and the mesh must still be the one-thread mesh, tet for tet.  With a wrong boundary
@@ -104,9 +104,14 @@ static void test_a_rebalanced_first_pass_gives_the_one_thread_tets(void)
     TEST_REQUIRE(io_generate("uniform", n, 8, &q, &nq, &ie) == IO_OK, "generator");
     for (size_t i = 0; i < nq / 2; i++)  /* half of them in a cube 10^-3 wide (bench clu) */
         for (int d = 0; d < 3; d++) q[3 * i + d] = 0.5 + 1e-3 * q[3 * i + d];
-    const double *sets[2] = {p, q};
-    const size_t sizes[2] = {np, nq};
-    for (int k = 0; k < 2; k++) {
+    /* and points on a paraboloid, whose first passes cut slabs across z (NOTES.md E70): the
+     * rests are then cut at their median z (E258) */
+    double *r = NULL;
+    size_t nr = 0;
+    TEST_REQUIRE(io_generate("paraboloid", n, 9, &r, &nr, &ie) == IO_OK, "generator");
+    const double *sets[3] = {p, q, r};
+    const size_t sizes[3] = {np, nq, nr};
+    for (int k = 0; k < 3; k++) {
         size_t nt1, nt;
         uint64_t moved;
         kpar_test_stop_after = 0;
@@ -128,6 +133,7 @@ static void test_a_rebalanced_first_pass_gives_the_one_thread_tets(void)
     }
     free(p);
     free(q);
+    free(r);
 }
 
 int main(void)

@@ -347,13 +347,16 @@ static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh
     /* the pending points of a round's later passes were all deferred or left in the pass
      * before, which wrote their hints; a round's first pass has none */
     const int use_hints = P->hint != NULL && pass > 0;
-    const int rebalance = pass == 0 && keys && P->cuts.nth == nth;
+    const int rebalance = pass == 0 && ((keys && P->cuts.nth == nth) || P->slab_first);
     gtet_status s = pass_region(P, pts, begin, end, nth, use_hints, rebalance ? &stop : NULL,
                                 ndef, ntried, stop_at, &room);
     if (s != GTET_OK) return s;
     size_t b2[256], e2[256];
-    const int again = rebalance && kpar_rebalance_cut(P, P->pk, pts, nth, end, stop_at, keys, sh,
-                                                 nmesh, b2, e2);
+    const int again =
+        rebalance && (keys ? kpar_rebalance_cut(P, P->pk, pts, nth, end, stop_at, keys, sh, nmesh,
+                                                b2, e2)
+                           : kpar_rebalance_slabs(P, pts, nth, end, stop_at, nmesh,
+                                                  (double *)(void *)P->tk, b2, e2));
     size_t n = 0;
     *attempts = 0;
     for (int k = 0; k < nth; k++) {

@@ -21,6 +21,8 @@ typedef struct kpar {
     int have_keys;
     int own3;           /* passes use three-of-four ownership (after a failed pass, kpar_round) */
     kpar_cuts cuts;     /* the last parallel pass's colour ranges (the first retry's cuts) */
+    kpar_slab_cuts slab; /* a round's first pass on slabs: its cuts (the rebalancing's), and */
+    int slab_first;      /* nonzero while that pass runs (partition.c) */
     uint64_t *skeys;    /* per vertex in the mesh, keys on a later pass's shifted box */
     kpar_runs runs;     /* a slab pass's run starts per slice (slabs.h, NOTES.md E100); n[k]
                          * 0 in a pass on Moore slices */
@@ -72,9 +74,21 @@ int kpar_rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth
                        const size_t end[], const size_t stop_at[], const uint64_t *keys, int sh,
                        size_t nmesh, size_t b2[], size_t e2[]);
 
+/* The same for a round's first pass on slabs (P->slab; NOTES.md E258): thread k < nth - 1
+ * with a rest of at least KPAR_REBALANCE_MIN points gives thread k + 1 the rest's points at or
+ * above their median coordinate along the slabs' axis, and the cut between the two slabs moves
+ * down to that median; the last thread gives thread nth - 2 the points below its rest's median
+ * (the cut moving up) when thread nth - 2 gave nothing.  The vertices 0..nmesh-1 are
+ * recoloured by the new cuts; thread k's list is P->ti[b2[k] .. e2[k]) (what it kept of its
+ * rest, then the points it took, from a run start in P->runs), each part in the pass's order.
+ * scratch: the rests' coordinates (np doubles).  0, nothing changed, when no rest was cut. */
+int kpar_rebalance_slabs(kpar *P, const uint32_t *pts, int nth, const size_t end[],
+                         const size_t stop_at[], size_t nmesh, double *scratch, size_t b2[],
+                         size_t e2[]);
+
 /* Tests only (0 in every run of the library): when nonzero, thread 0 of a round's first pass
- * on Moore slices signals the stop of the rebalancing (parallel.c pass_parallel) after this
- * many tries, so that every thread leaves a rest to cut. */
+ * (on Moore slices or slabs) signals the stop of the rebalancing (parallel.c pass_parallel)
+ * after this many tries, so that every thread leaves a rest to cut. */
 extern size_t kpar_test_stop_after;
 
 /* Insert the points pts[0..np) (a BRIO round; the array is reordered) with up to P->threads

@@ -121,6 +121,7 @@ void kpar_pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nt
 {
     kmesh *m = P->m;
     memset(P->runs.n, 0, sizeof P->runs.n);  /* Moore slices: no runs (pass_slabs fills them) */
+    P->slab_first = 0;
     *keys_out = NULL;
     if (pass > 0 && pass_slabs(P, pts, np, nmesh, nth, -1, NULL, begin, end)) {
         for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */
@@ -172,6 +173,8 @@ void kpar_pass_partition(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nt
     if (pass == 0 && first_pass_axis(P, pts, np, nth, &chosen) >= 0 &&
         pass_slabs(P, pts, np, nmesh, nth, chosen.axis, &chosen, begin, end)) {
         P->cuts.nth = 0;  /* no Moore ranges for the retry's E20 cuts (it falls back) */
+        P->slab = chosen;  /* the rebalancing's cuts (E258) */
+        P->slab_first = 1;
         *keys_out = NULL;
     }
     for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: slice k is of colour k */

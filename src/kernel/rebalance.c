@@ -1,7 +1,8 @@
-/* rebalance.c -- the rebalancing of a round's first pass (NOTES.md E186; parallel.c
+/* rebalance.c -- the rebalancing of a round's first pass (NOTES.md E186, E258; parallel.c
  * pass_parallel runs it): the untried rests of the threads' slices cut in two at Moore cell
- * boundaries, the colour boundaries moved back to the cuts (proofs/parallel.md O1), and the
- * threads' lists for the second region. */
+ * boundaries, or at their median coordinate across the slabs of a first pass on slabs, the
+ * colour boundaries moved to the cuts (proofs/parallel.md O1), and the threads' lists for the
+ * second region. */
 #include "parallel.h"
 
 #include <omp.h>
@@ -62,5 +63,76 @@ int kpar_rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth
     }
     for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: every point is its thread's */
         for (size_t i = b2[k]; i < e2[k]; i++) GTET_DEBUG_ASSERT(col[ti[i]] == k);
+    return 1;
+}
+
+/* The median coordinate along axis of the points pts[b .. e), e > b (scratch: e - b doubles). */
+static double rest_median(const double *v, int axis, const uint32_t *pts, size_t b, size_t e,
+                          double *scratch)
+{
+    const size_t n = e - b;
+    for (size_t i = 0; i < n; i++) scratch[i] = v[3 * (size_t)pts[b + i] + axis];
+    return kpar_select(scratch, n, n / 2);
+}
+
+int kpar_rebalance_slabs(kpar *P, const uint32_t *pts, int nth, const size_t end[],
+                         const size_t stop_at[], size_t nmesh, double *scratch, size_t b2[],
+                         size_t e2[])
+{
+    const double *v = P->m->v;
+    kpar_slab_cuts s = P->slab;
+    const int ax = s.axis;
+    /* give[k]: 1 thread k gives its rest's upper part to k + 1, -1 the last thread gives its
+     * lower part to nth - 2, 0 nothing; med[k] the moved cut */
+    int give[256] = {0}, cut = 0;
+    double med[256];
+    for (int k = 0; k < nth; k++) {
+        if (end[k] - stop_at[k] < KPAR_REBALANCE_MIN) continue;
+        const double m = rest_median(v, ax, pts, stop_at[k], end[k], scratch);
+        if (k < nth - 1) {
+            /* the slab keeps a positive width (a cut never passes the one below it) */
+            if (k > 0 && !(m > s.cut[k])) continue;
+            give[k] = 1;
+        } else {
+            if (nth >= 2 && give[nth - 2]) continue;  /* that cut moves down already */
+            if (!(m > s.cut[k])) continue;            /* nothing below the median to give */
+            give[k] = -1;
+        }
+        med[k] = m;
+        cut = 1;
+    }
+    if (!cut) return 0;
+    for (int k = 0; k < nth; k++) {
+        if (give[k] == 1) s.cut[k + 1] = med[k];
+        if (give[k] == -1) s.cut[k] = med[k];
+    }
+    uint8_t *col = P->colour;
+#pragma omp parallel for num_threads(nth) schedule(static)
+    for (size_t u = 0; u < nmesh; u++) col[u] = (uint8_t)kpar_slab_of(v[3 * u + ax], &s);
+    /* the lists: thread k's kept points (its rest's points now of its slab), then the points
+     * of its neighbours' rests now of its slab (a run start) */
+    uint32_t *ti = P->ti;
+    size_t at = 0;
+    for (int k = 0; k < nth; k++) {
+        b2[k] = at;
+        for (size_t i = stop_at[k]; i < end[k]; i++)
+            if (kpar_slab_of(v[3 * (size_t)pts[i] + ax], &s) == k) ti[at++] = pts[i];
+        const size_t own = at - b2[k];
+        for (int q = k - 1; q <= k + 1; q += 2) {
+            if (q < 0 || q >= nth || !give[q]) continue;
+            for (size_t i = stop_at[q]; i < end[q]; i++)
+                if (kpar_slab_of(v[3 * (size_t)pts[i] + ax], &s) == k) ti[at++] = pts[i];
+        }
+        e2[k] = at;
+        P->runs.n[k] = own > 0 && at > b2[k] + own;
+        P->runs.at[(size_t)k * P->runs.cap] = (uint32_t)own;
+    }
+    size_t rests = 0;  /* every rest's point is in one list */
+    for (int k = 0; k < nth; k++) rests += end[k] - stop_at[k];
+    GTET_DEBUG_ASSERT(at == rests);
+    (void)rests;
+    for (int k = 0; GTET_DEBUG_ON && k < nth; k++)  /* O1: every point is its thread's */
+        for (size_t i = b2[k]; i < e2[k]; i++) GTET_DEBUG_ASSERT(col[ti[i]] == k);
+    P->slab = s;
     return 1;
 }
