@@ -331,9 +331,10 @@ static gtet_status pass_region(kpar *P, uint32_t *pts, const size_t begin[], con
 
 /* One parallel pass over pts[0..np) with `nth` threads; the mesh holds (or will hold, at the
  * end of this round) the vertices 0..nmesh-1.  Deferred points are moved to the front of pts
- * and counted in *left.  A round's first pass on Moore slices stops when a thread has done
- * its slice and rebalances the others' rests (rebalance.c: the threads' speeds differ from
- * run to run on a shared machine, and the cost weights only estimate the points' costs). */
+ * and counted in *left.  A round's first pass (on Moore slices or on slabs) stops when a
+ * thread has done its slice and rebalances the others' rests (rebalance.c: the threads'
+ * speeds differ from run to run on a shared machine, and equal counts only estimate equal
+ * costs). */
 static gtet_status pass_parallel(kpar *P, uint32_t *pts, size_t np, size_t nmesh, int nth,
                                  unsigned pass, size_t *left, size_t *attempts, int *out_of_room,
                                  uint64_t *rebalanced)
