@@ -11,8 +11,9 @@
 #   tsan   clang-14, -DGTET_TSAN=ON (-fsanitize=thread), LLVM's libomp (-fopenmp=libomp, not
 #          libgomp) with the Archer OMPT tool so TSan understands OpenMP's barriers, build-tsan:
 #          test_parallel_determinism (sanitized sizes: 10k-40k random, grid and co-spherical
-#          points at 1-4 threads, every round split across threads) must run with zero
-#          reports, and tests/parallel_race_canary.c, a deliberately racy loop, must be
+#          points at 1-4 threads, every round split across threads) and test_parallel_balance
+#          (first passes forced to rebalance, on Moore slices and on slabs: NOTES.md E186, E258;
+#          ~1 min) must run with zero reports, and tests/parallel_race_canary.c, a deliberately racy loop, must be
 #          flagged (ctest tsan_flags_a_deliberate_data_race): the job can fail.
 #   clang  clang-14 / clang++-14, -DGTET_WERROR=ON -DGTET_BENCH=ON, build-clang: configures and
 #          builds every target once (library, CLI, tests, the CGAL differential programs, the
@@ -58,12 +59,12 @@ job_tsan() {
         return 1
     fi
     run cmake --build build-tsan -j "$jobs" --target test_parallel_determinism \
-        test_check_threads parallel_race_canary >/dev/null || return 1
+        test_parallel_balance test_check_threads parallel_race_canary >/dev/null || return 1
     # halt_on_error: the first report fails the run; Archer is loaded through OMPT.
     (cd build-tsan &&
         OMP_TOOL_LIBRARIES=$archer \
         TSAN_OPTIONS="ignore_noninstrumented_modules=1 halt_on_error=1" \
-        run ctest --output-on-failure -R '^(test_parallel_determinism|test_check_threads|tsan_flags_a_deliberate_data_race)$') \
+        run ctest --output-on-failure -R '^(test_parallel_determinism|test_parallel_balance|test_check_threads|tsan_flags_a_deliberate_data_race)$') \
         || return 1
     # belt and braces: the canary must have been registered and run (not silently skipped)
     grep -q 'tsan_flags_a_deliberate_data_race' build-tsan/Testing/Temporary/LastTest.log || {
