@@ -76,7 +76,8 @@ int kpar_rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth
 
 /* The same for a round's first pass on slabs (P->slab; NOTES.md E258): thread k < nth - 1
  * with a rest of at least KPAR_REBALANCE_MIN points gives thread k + 1 the rest's points at or
- * above their median coordinate along the slabs' axis, and the cut between the two slabs moves
+ * above their median coordinate along the slabs' axis (kpar_slab_cuts_on with two slabs: not
+ * where equal coordinates leave a side under a quarter), and the cut between the two slabs moves
  * down to that median; the last thread gives thread nth - 2 the points below its rest's median
  * (the cut moving up) when thread nth - 2 gave nothing.  The vertices 0..nmesh-1 are
  * recoloured by the new cuts; thread k's list is P->ti[b2[k] .. e2[k]) (what it kept of its

@@ -66,15 +66,6 @@ int kpar_rebalance_cut(kpar *P, const uint64_t *pk, const uint32_t *pts, int nth
     return 1;
 }
 
-/* The median coordinate along axis of the points pts[b .. e), e > b (scratch: e - b doubles). */
-static double rest_median(const double *v, int axis, const uint32_t *pts, size_t b, size_t e,
-                          double *scratch)
-{
-    const size_t n = e - b;
-    for (size_t i = 0; i < n; i++) scratch[i] = v[3 * (size_t)pts[b + i] + axis];
-    return kpar_select(scratch, n, n / 2);
-}
-
 int kpar_rebalance_slabs(kpar *P, const uint32_t *pts, int nth, const size_t end[],
                          const size_t stop_at[], size_t nmesh, double *scratch, size_t b2[],
                          size_t e2[])
@@ -88,7 +79,12 @@ int kpar_rebalance_slabs(kpar *P, const uint32_t *pts, int nth, const size_t end
     double med[256];
     for (int k = 0; k < nth; k++) {
         if (end[k] - stop_at[k] < KPAR_REBALANCE_MIN) continue;
-        const double m = rest_median(v, ax, pts, stop_at[k], end[k], scratch);
+        /* the rest's median along the axis: its two-slab cut (refused when equal coordinates
+         * would leave either side under a quarter of the rest) */
+        kpar_slab_cuts half;
+        if (!kpar_slab_cuts_on(v, pts + stop_at[k], end[k] - stop_at[k], 2, ax, scratch, &half))
+            continue;
+        const double m = half.cut[1];
         if (k < nth - 1) {
             /* the slab keeps a positive width (a cut never passes the one below it) */
             if (k > 0 && !(m > s.cut[k])) continue;

@@ -192,15 +192,24 @@ static void hash_order(uint32_t *ids, size_t n, uint64_t salt, uint64_t *hk, uin
  * order, then stable sorts by the finer keys: ties in hash order), reached without sorting the
  * whole run by hash first: the run's ids come in the order of the sort before, close to input
  * order, so the keys' reads of their coordinates go forward through memory, where in hash
- * order each was a cache miss (NOTES.md E176).  kscr, tk, ti: scratch of n entries.  The
+ * order each was a cache miss (NOTES.md E176).  run_box: NULL, or the run's sort_bbox when the
+ * caller has it (fine_keys_help).  kscr, tk, ti: scratch of n entries.  The
  * run's box shrinks by 2^bits >= 32 per axis at each level (a sub-run lies in one cell of its
  * parent's box), so the depth bounds both the recursion and the work: at most
  * BRIO_REFINE_DEPTH keys and sorts per point. */
+static size_t order_equal_runs(const double *xyz, size_t stride, uint32_t *ids, size_t n,
+                               int depth, uint64_t *keys, uint64_t *tk, uint32_t *ti,
+                               uint64_t salt, int threads);
+
 static void refine_run(const double *xyz, size_t stride, uint32_t *ids, size_t n, int depth,
-                       uint64_t *kscr, uint64_t *tk, uint32_t *ti, uint64_t salt, int threads)
+                       const double *run_box, uint64_t *kscr, uint64_t *tk, uint32_t *ti,
+                       uint64_t salt, int threads)
 {
     double box[6];
-    sort_bbox(xyz, stride, ids, n, box, threads);
+    if (run_box)  /* the caller's sort_bbox of the same points */
+        memcpy(box, run_box, sizeof box);
+    else
+        sort_bbox(xyz, stride, ids, n, box, threads);
     if (box[0] == box[3] && box[1] == box[4] && box[2] == box[5]) {
         hash_order(ids, n, salt, tk, kscr, ti, threads);
         return;
@@ -208,18 +217,37 @@ static void refine_run(const double *xyz, size_t stride, uint32_t *ids, size_t n
     const int bits = sort_brio_bits(n);
     sort_moore_keys_ids(xyz, stride, ids, n, box, bits, kscr, threads);
     sort_radix_pairs(kscr, ids, n, 3 * bits, tk, ti, threads);
+    order_equal_runs(xyz, stride, ids, n, depth + 1, kscr, tk, ti, salt, threads);
+}
+
+/* Every maximal run of equal keys[0..n) (sorted) that is longer than BRIO_REFINE_MIN refined
+ * at `depth` (refine_run, while depth <= BRIO_REFINE_DEPTH), every other run of two or more
+ * put in hash order; a run is the levels' scratch and gets its key back.  Returns the longest
+ * run. */
+static size_t order_equal_runs(const double *xyz, size_t stride, uint32_t *ids, size_t n,
+                               int depth, uint64_t *keys, uint64_t *tk, uint32_t *ti,
+                               uint64_t salt, int threads)
+{
+    size_t longest = 0;
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
-        while (j < n && kscr[j] == kscr[i])
+        while (j < n && keys[j] == keys[i])
             j++;
-        /* kscr[i..j) is not read again: scratch for the sub-run from here */
-        if (j - i > BRIO_REFINE_MIN && depth < BRIO_REFINE_DEPTH)
-            refine_run(xyz, stride, ids + i, j - i, depth + 1, kscr + i, tk + i, ti + i, salt,
-                       threads);
-        else if (j - i > 1)
-            hash_order(ids + i, j - i, salt, tk + i, kscr + i, ti + i, threads);
+        if (j - i > longest)
+            longest = j - i;
+        if (j - i > 1) {
+            const uint64_t key = keys[i];
+            if (j - i > BRIO_REFINE_MIN && depth <= BRIO_REFINE_DEPTH)
+                refine_run(xyz, stride, ids + i, j - i, depth, NULL, keys + i, tk + i, ti + i,
+                           salt, threads);
+            else
+                hash_order(ids + i, j - i, salt, tk + i, keys + i, ti + i, threads);
+            for (size_t u = i; u < j; u++)
+                keys[u] = key;
+        }
         i = j;
     }
+    return longest;
 }
 
 /* Whether the fine keys (BRIO_FINE_BITS bits per axis on the set's box `box`) order the run
@@ -228,10 +256,9 @@ static void refine_run(const double *xyz, size_t stride, uint32_t *ids, size_t n
  * unit cube next to a point at 10^6 (2 fine cells an axis): there the fine keys would be
  * computed and sorted for nothing, and the run is refined on its own box at once. */
 static int fine_keys_help(const double *xyz, size_t stride, const uint32_t *ids, size_t n,
-                          const double box[6], int threads)
+                          const double box[6], double rb[6], int threads)
 {
-    double rb[6];
-    sort_bbox(xyz, stride, ids, n, rb, threads);
+    sort_bbox(xyz, stride, ids, n, rb, threads);  /* rb: the run's box, for refine_run too */
     const double want = ldexp(1.0, sort_brio_bits(n) - 1 - BRIO_FINE_BITS);
     for (int a = 0; a < 3; a++)  /* (exact min/max and IEEE operations: deterministic) */
         if (rb[a + 3] - rb[a] >= want * (box[a + 3] - box[a]) && rb[a + 3] > rb[a])
@@ -257,26 +284,7 @@ static size_t refine_global(const double *xyz, size_t stride, uint32_t *ids, siz
     sort_moore_keys_ids(xyz, stride, ids, n, box, BRIO_FINE_BITS, fine, threads);
     /* the bits above these are the run's key, the same for all */
     sort_radix_pairs(fine, ids, n, 3 * (BRIO_FINE_BITS - kbits), tk, ti, threads);
-    size_t longest = 0;
-    for (size_t i = 0; i < n;) {
-        size_t j = i + 1;
-        while (j < n && fine[j] == fine[i])
-            j++;
-        if (j - i > longest)
-            longest = j - i;
-        if (j - i > 1) {
-            const uint64_t key = fine[i];
-            if (j - i > BRIO_REFINE_MIN)
-                refine_run(xyz, stride, ids + i, j - i, 2, fine + i, tk + i, ti + i, salt,
-                           threads);
-            else
-                hash_order(ids + i, j - i, salt, tk + i, fine + i, ti + i, threads);
-            for (size_t u = i; u < j; u++)
-                fine[u] = key;
-        }
-        i = j;
-    }
-    return longest;
+    return order_equal_runs(xyz, stride, ids, n, 2, fine, tk, ti, salt, threads);
 }
 
 gtet_status sort_brio(const double *xyz, size_t stride, uint32_t *ids, size_t n, uint64_t seed,
@@ -311,16 +319,17 @@ static void order_runs(const double *xyz, size_t stride, uint32_t *ids, size_t n
         const size_t rsize = end[r] - (r ? end[r - 1] : 0);
         size_t same = j - i;  /* the longest run of equal fine keys */
         const uint64_t fine = (keys[i] & cell) << up;
-        if (j - i > BRIO_REFINE_MIN && up > 0 &&
-            fine_keys_help(xyz, stride, ids + i, j - i, box, threads)) {
+        double rb[6];  /* the run's box, when fine_keys_help computed it */
+        const int have_rb = j - i > BRIO_REFINE_MIN && up > 0;
+        if (have_rb && fine_keys_help(xyz, stride, ids + i, j - i, box, rb, threads)) {
             /* ends in hash order within its finer keys */
             same = refine_global(xyz, stride, ids + i, j - i, box, kbits, keys + i, tk + i,
                                  ti + i, salt, threads);
             refined += j - i;
         } else {
             if (j - i > BRIO_REFINE_MIN) {
-                refine_run(xyz, stride, ids + i, j - i, 1, keys + i, tk + i, ti + i, salt,
-                           threads);
+                refine_run(xyz, stride, ids + i, j - i, 1, have_rb ? rb : NULL, keys + i,
+                           tk + i, ti + i, salt, threads);
                 refined += j - i;
             } else if (j - i > 1) {
                 hash_order(ids + i, j - i, salt, tk + i, keys + i, ti + i, threads);
