@@ -88,10 +88,10 @@ static void tets_with(const double *p, size_t n, int threads, uint32_t **out, si
 
 /* The rebalancing of a round's first pass (src/kernel/parallel.c pass_parallel, NOTES.md
  * E186, E258): when a thread has done its slice, the others leave their rests, which are cut
- * between neighbouring threads and recoloured (on Moore slices, or on slabs).  Whether it happens depends on the threads'
- * speeds, so the test hook kpar_test_stop_after makes thread 0 signal the stop after 3000
- * tries: every thread then leaves a rest, every colour boundary moves (the loop's origin
- * too), and the mesh must still be the one-thread mesh, tet for tet.  With a wrong boundary
+ * between neighbouring threads and recoloured (on Moore slices, or on slabs).  Whether it
+ * happens depends on the threads' speeds, so the test hook kpar_test_stop_after makes thread
+ * 0 signal the stop after 3000 tries: every thread then leaves a rest, every colour boundary
+ * moves (the loop's origin too), and the mesh must still be the one-thread mesh, tet for tet.  With a wrong boundary
  * a thread would insert points of another's colour (GTET_DEBUG_ASSERT in the sanitized
  * builds) and the threads would write the same tets. */
 static void test_a_rebalanced_first_pass_gives_the_one_thread_tets(void)
